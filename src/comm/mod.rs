@@ -1,0 +1,37 @@
+//! The communication layer: everything the engine asks of other ranks, behind one trait.
+//! [`SerialComm`] is the single-process implementation (tests, one rank without MPI);
+//! [`MpiComm`] is the only code in the crate that speaks MPI.
+
+mod mpi_comm;
+mod serial;
+
+pub use mpi_comm::MpiComm;
+pub use serial::SerialComm;
+
+/// What the engine needs from the ranks around it.
+pub trait Comm {
+    /// This rank's index.
+    fn rank(&self) -> usize;
+    /// Number of ranks.
+    fn size(&self) -> usize;
+    /// Send `to_down` to rank `down` and `to_up` to rank `up` (either may be absent), and
+    /// return `(from_down, from_up)`: what `down` sent up to us and what `up` sent down.
+    /// `down` and `up` may be the same rank, or this rank itself.
+    fn exchange(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        up: Option<usize>,
+        to_up: &[f64],
+    ) -> (Vec<f64>, Vec<f64>);
+    /// Maximum of `x` over all ranks.
+    fn max_f64(&self, x: f64) -> f64;
+    /// Sum of `x` over all ranks, on every rank.
+    fn sum_u64(&self, x: u64) -> u64;
+    /// Element-wise sum of `v` over all ranks, delivered to rank 0 (others get `v` unchanged).
+    fn sum_i64_to_root(&self, v: &mut [i64]);
+    /// Concatenation of every rank's `local` in rank order, on rank 0 (`None` elsewhere).
+    fn gather_f64(&self, local: &[f64]) -> Option<Vec<f64>>;
+    /// Whether `ok` holds on every rank.
+    fn all_ok(&self, ok: bool) -> bool;
+}

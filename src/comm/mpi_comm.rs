@@ -1,0 +1,141 @@
+//! MPI through rsmpi: the only file in the crate that speaks MPI.
+
+use super::Comm;
+use mpi::collective::SystemOperation;
+use mpi::datatype::PartitionMut;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+
+const TAG_UP: i32 = 11;
+const TAG_DOWN: i32 = 12;
+
+/// A communicator over `MPI_COMM_WORLD`.
+pub struct MpiComm {
+    world: SimpleCommunicator,
+}
+
+impl MpiComm {
+    /// Wrap the world communicator of an initialised MPI universe.
+    pub fn new(universe: &mpi::environment::Universe) -> Self {
+        MpiComm {
+            world: universe.world(),
+        }
+    }
+
+    /// Abort every rank with `code` (used when one rank fails alone).
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+}
+
+impl Comm for MpiComm {
+    fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+
+    fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+
+    fn exchange(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        up: Option<usize>,
+        to_up: &[f64],
+    ) -> (Vec<f64>, Vec<f64>) {
+        mpi::request::scope(|scope| {
+            let send_up = up.map(|u| {
+                self.world
+                    .process_at_rank(u as i32)
+                    .immediate_send_with_tag(scope, to_up, TAG_UP)
+            });
+            let send_down = down.map(|d| {
+                self.world
+                    .process_at_rank(d as i32)
+                    .immediate_send_with_tag(scope, to_down, TAG_DOWN)
+            });
+            let from_down = down
+                .map(|d| {
+                    self.world
+                        .process_at_rank(d as i32)
+                        .receive_vec_with_tag::<f64>(TAG_UP)
+                        .0
+                })
+                .unwrap_or_default();
+            let from_up = up
+                .map(|u| {
+                    self.world
+                        .process_at_rank(u as i32)
+                        .receive_vec_with_tag::<f64>(TAG_DOWN)
+                        .0
+                })
+                .unwrap_or_default();
+            if let Some(r) = send_up {
+                r.wait();
+            }
+            if let Some(r) = send_down {
+                r.wait();
+            }
+            (from_down, from_up)
+        })
+    }
+
+    fn max_f64(&self, x: f64) -> f64 {
+        let mut y = 0.0;
+        self.world
+            .all_reduce_into(&x, &mut y, SystemOperation::max());
+        y
+    }
+
+    fn sum_u64(&self, x: u64) -> u64 {
+        let mut y = 0u64;
+        self.world
+            .all_reduce_into(&x, &mut y, SystemOperation::sum());
+        y
+    }
+
+    fn sum_i64_to_root(&self, v: &mut [i64]) {
+        let root = self.world.process_at_rank(0);
+        if self.rank() == 0 {
+            let mut out = vec![0i64; v.len()];
+            root.reduce_into_root(&v[..], &mut out[..], SystemOperation::sum());
+            v.copy_from_slice(&out);
+        } else {
+            root.reduce_into(&v[..], SystemOperation::sum());
+        }
+    }
+
+    fn gather_f64(&self, local: &[f64]) -> Option<Vec<f64>> {
+        let root = self.world.process_at_rank(0);
+        let n = local.len() as i32;
+        if self.rank() == 0 {
+            let mut counts = vec![0i32; self.size()];
+            root.gather_into_root(&n, &mut counts[..]);
+            let displs: Vec<i32> = counts
+                .iter()
+                .scan(0, |acc, &c| {
+                    let d = *acc;
+                    *acc += c;
+                    Some(d)
+                })
+                .collect();
+            let total: i32 = counts.iter().sum();
+            let mut all = vec![0.0f64; total as usize];
+            {
+                let mut part = PartitionMut::new(&mut all[..], counts, &displs[..]);
+                root.gather_varcount_into_root(local, &mut part);
+            }
+            Some(all)
+        } else {
+            root.gather_into(&n);
+            root.gather_varcount_into(local);
+            None
+        }
+    }
+
+    fn all_ok(&self, ok: bool) -> bool {
+        let x = if ok { 0u64 } else { 1 };
+        self.sum_u64(x) == 0
+    }
+}

@@ -1,0 +1,41 @@
+//! A single rank without MPI: exchanges with itself are buffer swaps.
+
+use super::Comm;
+
+/// The one-rank communicator.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct SerialComm;
+
+impl Comm for SerialComm {
+    fn rank(&self) -> usize {
+        0
+    }
+    fn size(&self) -> usize {
+        1
+    }
+    fn exchange(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        up: Option<usize>,
+        to_up: &[f64],
+    ) -> (Vec<f64>, Vec<f64>) {
+        // What we send up arrives from below, and vice versa.
+        let from_down = if down.is_some() { to_up.to_vec() } else { Vec::new() };
+        let from_up = if up.is_some() { to_down.to_vec() } else { Vec::new() };
+        (from_down, from_up)
+    }
+    fn max_f64(&self, x: f64) -> f64 {
+        x
+    }
+    fn sum_u64(&self, x: u64) -> u64 {
+        x
+    }
+    fn sum_i64_to_root(&self, _v: &mut [i64]) {}
+    fn gather_f64(&self, local: &[f64]) -> Option<Vec<f64>> {
+        Some(local.to_vec())
+    }
+    fn all_ok(&self, ok: bool) -> bool {
+        ok
+    }
+}

@@ -1,0 +1,127 @@
+//! Migration of particles between slabs and the ghost halo, as one mechanism over the
+//! [`Comm`] exchange with the two axial neighbours.
+//!
+//! Ghosts keep their owner's (wrapped) coordinates bit for bit; a ghost that is a periodic
+//! image carries its axial offset in `z_image`, used only for binning. Pair forces use the
+//! minimum image of the raw coordinates, so a pair is computed with the same arithmetic
+//! whichever of its particles is the ghost.
+
+use super::slabs::Slabs;
+use crate::comm::Comm;
+use crate::particles::{unpack, Particles, PACKED_WORDS, UPDATE_WORDS};
+use crate::physics::Materials;
+
+/// Which owned particles were sent as ghosts to each neighbour, and where their copies sit.
+#[derive(Debug, Clone, Default)]
+pub struct Halo {
+    send_down: Vec<usize>,
+    send_up: Vec<usize>,
+    n_from_down: usize,
+    n_from_up: usize,
+    /// Words sent in the last full exchange (for the run's statistics).
+    pub words_sent: usize,
+}
+
+/// Send every owned particle that left this rank's slab to the neighbour that now owns it.
+/// Ghosts must have been cleared. Returns the number of particles sent.
+pub fn migrate(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Materials) -> usize {
+    debug_assert_eq!(p.n_owned, p.len());
+    let me = comm.rank();
+    let (down, up) = (slabs.down(me), slabs.up(me));
+    let mut leave = vec![false; p.n_owned];
+    let (mut to_down, mut to_up) = (Vec::new(), Vec::new());
+    for (i, flag) in leave.iter_mut().enumerate() {
+        let owner = slabs.owner(p.x[i][2]);
+        if owner == me {
+            continue;
+        }
+        *flag = true;
+        if Some(owner) == up {
+            p.pack(i, &mut to_up);
+        } else if Some(owner) == down {
+            p.pack(i, &mut to_down);
+        } else {
+            panic!(
+                "particle {} at z = {} moved past a whole slab in one neighbour-list interval",
+                p.id[i], p.x[i][2]
+            );
+        }
+    }
+    let sent = leave.iter().filter(|&&l| l).count();
+    if down.is_none() && up.is_none() {
+        assert_eq!(sent, 0, "a particle left the only slab");
+        return 0;
+    }
+    p.remove_owned(&leave);
+    let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
+    for rec in from_down.chunks_exact(PACKED_WORDS).chain(from_up.chunks_exact(PACKED_WORDS)) {
+        p.push_owned(&unpack(rec), mat);
+    }
+    sent
+}
+
+/// Build the ghost halo: each rank sends the owned particles within `reach` of each face to
+/// the neighbour across it, and appends what it receives as ghosts.
+pub fn borders(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Materials, reach: f64) -> Halo {
+    p.clear_ghosts();
+    let me = comm.rank();
+    let (down, up) = (slabs.down(me), slabs.up(me));
+    let (lo, hi) = slabs.range(me);
+    let mut halo = Halo::default();
+    for i in 0..p.n_owned {
+        let z = p.x[i][2];
+        if down.is_some() && z < lo + reach {
+            halo.send_down.push(i);
+        }
+        if up.is_some() && z >= hi - reach {
+            halo.send_up.push(i);
+        }
+    }
+    let (mut to_down, mut to_up) = (Vec::new(), Vec::new());
+    for &i in &halo.send_down {
+        p.pack(i, &mut to_down);
+    }
+    for &i in &halo.send_up {
+        p.pack(i, &mut to_up);
+    }
+    halo.words_sent = to_down.len() + to_up.len();
+    let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
+    let last = slabs.size() - 1;
+    // Images across the periodic ends sit one drum length away.
+    let shift_down = if me == 0 { -slabs.length } else { 0.0 };
+    let shift_up = if me == last { slabs.length } else { 0.0 };
+    for rec in from_down.chunks_exact(PACKED_WORDS) {
+        p.push(&unpack(rec), mat, shift_down);
+    }
+    for rec in from_up.chunks_exact(PACKED_WORDS) {
+        p.push(&unpack(rec), mat, shift_up);
+    }
+    halo.n_from_down = from_down.len() / PACKED_WORDS;
+    halo.n_from_up = from_up.len() / PACKED_WORDS;
+    halo
+}
+
+/// Refresh the ghosts' positions, velocities and spins from their owners.
+pub fn update_ghosts(p: &mut Particles, halo: &Halo, slabs: &Slabs, comm: &dyn Comm) {
+    let me = comm.rank();
+    let (down, up) = (slabs.down(me), slabs.up(me));
+    let mut to_down = Vec::with_capacity(halo.send_down.len() * UPDATE_WORDS);
+    let mut to_up = Vec::with_capacity(halo.send_up.len() * UPDATE_WORDS);
+    for &i in &halo.send_down {
+        p.pack_update(i, &mut to_down);
+    }
+    for &i in &halo.send_up {
+        p.pack_update(i, &mut to_up);
+    }
+    let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
+    assert_eq!(from_down.len(), halo.n_from_down * UPDATE_WORDS, "ghost update size from below");
+    assert_eq!(from_up.len(), halo.n_from_up * UPDATE_WORDS, "ghost update size from above");
+    let first = p.n_owned;
+    for (k, rec) in from_down.chunks_exact(UPDATE_WORDS).enumerate() {
+        p.unpack_update(first + k, rec);
+    }
+    let first = p.n_owned + halo.n_from_down;
+    for (k, rec) in from_up.chunks_exact(UPDATE_WORDS).enumerate() {
+        p.unpack_update(first + k, rec);
+    }
+}

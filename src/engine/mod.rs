@@ -1,0 +1,12 @@
+//! The slab-decomposed engine: particles, halo, neighbour lists, forces and the step loop.
+
+pub mod forces;
+pub mod halo;
+pub mod neighbor;
+pub mod sim;
+pub mod slabs;
+pub mod timers;
+
+pub use sim::{DecompositionError, Sim};
+pub use slabs::Slabs;
+pub use timers::{Phase, Timers, PHASES};

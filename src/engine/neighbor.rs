@@ -1,0 +1,158 @@
+//! Cell lists and a Verlet half list of pairs in a canonical order.
+//!
+//! Each pair is stored once per rank as `(a, b)` local indices with `id[a] < id[b]`, and the
+//! list is sorted by `(id[a], id[b])`. Accumulating pair forces in list order then adds every
+//! particle's contributions in increasing order of its partners' ids, whatever the slab layout:
+//! the key to bit-identical states on any number of ranks.
+
+use crate::particles::Particles;
+use crate::physics::integrate::min_image;
+use crate::physics::rapaport;
+
+/// The pair list and what is needed to decide when to rebuild it.
+#[derive(Debug, Clone, Default)]
+pub struct NeighborList {
+    /// Candidate pairs `(a, b)`, `id[a] < id[b]`, sorted by ids.
+    pub pairs: Vec<(u32, u32)>,
+    /// Positions of the owned particles when the list was built.
+    x_build: Vec<[f64; 3]>,
+    /// Scratch: particles sorted by cell, and each cell's start in it.
+    cell_items: Vec<u32>,
+    cell_start: Vec<u32>,
+    cell_of: Vec<u32>,
+}
+
+/// The box of cells covering a slab and its halo.
+#[derive(Debug, Clone, Copy)]
+pub struct Grid {
+    /// Lower corner.
+    pub lo: [f64; 3],
+    /// Cells along each axis.
+    pub n: [usize; 3],
+    /// Cell size along each axis (at least the reach).
+    pub size: [f64; 3],
+}
+
+impl Grid {
+    /// Cells of size at least `reach` over `x, y` in `[-radius, radius]`, `z` in `[z_lo, z_hi]`.
+    pub fn new(radius: f64, z_lo: f64, z_hi: f64, reach: f64) -> Self {
+        let span = [2.0 * radius, 2.0 * radius, z_hi - z_lo];
+        let mut n = [1usize; 3];
+        let mut size = [0.0; 3];
+        for k in 0..3 {
+            n[k] = ((span[k] / reach).floor() as usize).max(1);
+            size[k] = span[k] / n[k] as f64;
+        }
+        Grid {
+            lo: [-radius, -radius, z_lo],
+            n,
+            size,
+        }
+    }
+
+    fn coord(&self, x: f64, k: usize) -> usize {
+        let c = ((x - self.lo[k]) / self.size[k]).floor();
+        if c < 0.0 {
+            0
+        } else {
+            (c as usize).min(self.n[k] - 1)
+        }
+    }
+
+    fn index(&self, c: [usize; 3]) -> usize {
+        (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
+    }
+}
+
+impl NeighborList {
+    /// Rebuild the list from the owned and ghost particles of `p`. A pair is kept when the
+    /// centres are closer than its interaction range plus `skin`.
+    pub fn build(&mut self, p: &Particles, grid: &Grid, skin: f64) {
+        let n = p.len();
+        let ncell = grid.n[0] * grid.n[1] * grid.n[2];
+        self.cell_of.clear();
+        self.cell_of.extend((0..n).map(|i| {
+            let x = p.x[i];
+            grid.index([
+                grid.coord(x[0], 0),
+                grid.coord(x[1], 1),
+                grid.coord(x[2] + p.z_image[i], 2),
+            ]) as u32
+        }));
+        // Counting sort of particles by cell.
+        self.cell_start.clear();
+        self.cell_start.resize(ncell + 1, 0);
+        for &c in &self.cell_of {
+            self.cell_start[c as usize + 1] += 1;
+        }
+        for c in 0..ncell {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cell_items.clear();
+        self.cell_items.resize(n, 0);
+        let mut fill = self.cell_start.clone();
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            self.cell_items[fill[c as usize] as usize] = i as u32;
+            fill[c as usize] += 1;
+        }
+
+        self.pairs.clear();
+        for i in 0..p.n_owned {
+            let xi = p.x[i];
+            let zi = xi[2] + p.z_image[i];
+            let c = [grid.coord(xi[0], 0), grid.coord(xi[1], 1), grid.coord(zi, 2)];
+            let range = |k: usize| c[k].saturating_sub(1)..=(c[k] + 1).min(grid.n[k] - 1);
+            for cz in range(2) {
+                for cy in range(1) {
+                    for cx in range(0) {
+                        let cell = grid.index([cx, cy, cz]);
+                        let (s, e) = (self.cell_start[cell], self.cell_start[cell + 1]);
+                        for &j in &self.cell_items[s as usize..e as usize] {
+                            let j = j as usize;
+                            if j == i {
+                                continue;
+                            }
+                            // A pair of owned particles is seen from both: keep it once. A pair
+                            // with a ghost is kept from the owned side; its other half is
+                            // computed where the ghost is owned (which may be this rank, for a
+                            // periodic image of its own particle), with the same arithmetic.
+                            if j < p.n_owned && p.id[i] > p.id[j] {
+                                continue;
+                            }
+                            let xj = p.x[j];
+                            let dx = xi[0] - xj[0];
+                            let dy = xi[1] - xj[1];
+                            let dz = zi - (xj[2] + p.z_image[j]);
+                            let reach =
+                                rapaport::cutoff(0.5 * (p.diameter[i] + p.diameter[j])) + skin;
+                            if dx * dx + dy * dy + dz * dz < reach * reach {
+                                let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
+                                self.pairs.push((a as u32, b as u32));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let id = &p.id;
+        self.pairs
+            .sort_unstable_by_key(|&(a, b)| (id[a as usize], id[b as usize]));
+        self.x_build.clear();
+        self.x_build.extend_from_slice(&p.x[..p.n_owned]);
+    }
+
+    /// Largest displacement of an owned particle since the last build.
+    pub fn max_displacement(&self, p: &Particles, period: Option<f64>) -> f64 {
+        let mut m2: f64 = 0.0;
+        for (x, x0) in p.x[..p.n_owned].iter().zip(&self.x_build) {
+            let dx = x[0] - x0[0];
+            let dy = x[1] - x0[1];
+            let mut dz = x[2] - x0[2];
+            if let Some(l) = period {
+                dz = min_image(dz, l);
+            }
+            m2 = m2.max(dx * dx + dy * dy + dz * dz);
+        }
+        m2.sqrt()
+    }
+}

@@ -1,0 +1,5 @@
+//! Initial states.
+
+mod lattice;
+
+pub use lattice::lattice;

@@ -1,0 +1,22 @@
+//! tumbler: an MPI-parallel discrete element solver for granular flow, mixing and
+//! segregation in rotating tumblers.
+//!
+//! Layout (see `ARCHITECTURE.md`): [`case`] reads and checks case files; [`physics`] holds
+//! the contact laws, walls and integrator as plain functions; [`engine`] is the
+//! slab-decomposed step loop; [`comm`] is the only place that speaks MPI; [`diag`] bins and
+//! gathers diagnostics; [`output`] writes HDF5 and PNG; [`run`] drives a whole run.
+#![warn(missing_docs)]
+
+pub mod case;
+pub mod comm;
+pub mod diag;
+pub mod engine;
+pub mod init;
+pub mod output;
+pub mod particles;
+pub mod physics;
+pub mod report;
+pub mod run;
+
+/// Git commit the binary was built from.
+pub const GIT_HASH: &str = env!("TUMBLER_GIT_HASH");

@@ -1,0 +1,106 @@
+//! The `tumbler` command line.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use tumbler::case::{load_case, CaseError};
+use tumbler::comm::{Comm, MpiComm};
+use tumbler::run::{run, RunOptions};
+
+/// Discrete element simulations of granular flow and segregation in rotating tumblers.
+#[derive(Parser)]
+#[command(version = concat!(env!("CARGO_PKG_VERSION"), " (", env!("TUMBLER_GIT_HASH"), ")"))]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a case (under `mpirun -np N` for N ranks).
+    Run {
+        /// The case file.
+        case: PathBuf,
+        /// The HDF5 file to write (default: the case name with `.h5`, in the current directory).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Override a case key, e.g. `--set run.rotations=10` (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Replace the output file if it exists.
+        #[arg(long)]
+        overwrite: bool,
+    },
+    /// Validate a case and print its derived quantities.
+    Check {
+        /// The case file.
+        case: PathBuf,
+        /// Override a case key (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Number of ranks to size the slabs for.
+        #[arg(long, default_value_t = 1)]
+        ranks: usize,
+    },
+}
+
+fn report_case_errors(errs: &[CaseError]) {
+    eprintln!("error: the case was refused:");
+    for e in errs {
+        eprintln!("  {e}");
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
+        .format_timestamp_secs()
+        .init();
+    match cli.command {
+        Command::Check { case, set, ranks } => match load_case(&case, &set) {
+            Ok(lc) => {
+                print!("{}", tumbler::report::check_report(&lc.case, ranks.max(1)));
+                ExitCode::SUCCESS
+            }
+            Err(errs) => {
+                report_case_errors(&errs);
+                ExitCode::from(2)
+            }
+        },
+        Command::Run {
+            case,
+            output,
+            set,
+            overwrite,
+        } => {
+            let Some(universe) = mpi::initialize() else {
+                eprintln!("error: MPI could not be initialised");
+                return ExitCode::from(1);
+            };
+            let comm = MpiComm::new(&universe);
+            let root = comm.rank() == 0;
+            let lc = match load_case(&case, &set) {
+                Ok(lc) => lc,
+                Err(errs) => {
+                    if root {
+                        report_case_errors(&errs);
+                    }
+                    return ExitCode::from(2);
+                }
+            };
+            let output = output.unwrap_or_else(|| {
+                let stem = case.file_stem().map(|s| s.to_owned()).unwrap_or_default();
+                PathBuf::from(stem).with_extension("h5")
+            });
+            match run(&lc, &comm, &RunOptions { output, overwrite }) {
+                Ok(_) => ExitCode::SUCCESS,
+                Err(e) => {
+                    if root {
+                        eprintln!("error: {e}");
+                    }
+                    ExitCode::from(1)
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,163 @@
+//! The run's HDF5 file, written by rank 0.
+//!
+//! Public layout (read by users' scripts; keep the names):
+//! - `/axial/rotations` (T), `/axial/z` (Z), `/axial/volume_fraction` (T x S x Z),
+//!   `/axial/count` (T x S x Z);
+//! - `/particles/{id, species, diameter, position, velocity, angular_velocity}`, the final
+//!   state sorted by id;
+//! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`.
+//!
+//! The file is written under `NAME.partial` and renamed to `NAME` once complete, so a file
+//! with the final name is always whole.
+
+use crate::diag::AxialSample;
+use crate::particles::ParticleState;
+use hdf5::types::VarLenUnicode;
+use ndarray::{Array1, Array2};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+/// What identifies a run in its output.
+#[derive(Debug, Clone)]
+pub struct RunMeta {
+    /// The effective case text.
+    pub case_text: String,
+    /// Number of MPI ranks.
+    pub ranks: usize,
+    /// Species names, in index order.
+    pub species: Vec<String>,
+}
+
+/// An open output file being written.
+pub struct RunFile {
+    file: hdf5::File,
+    final_path: PathBuf,
+    partial_path: PathBuf,
+    rotations: hdf5::Dataset,
+    volume_fraction: hdf5::Dataset,
+    count: hdf5::Dataset,
+    samples: usize,
+    ns: usize,
+    nz: usize,
+}
+
+/// The name a file is written under until it is complete.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(".partial");
+    PathBuf::from(s)
+}
+
+fn str_attr(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> {
+    let v = VarLenUnicode::from_str(value).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
+}
+
+impl RunFile {
+    /// Create the file (as `path.partial`) with its metadata and empty axial series over the
+    /// slice centres `z`.
+    pub fn create(path: &Path, meta: &RunMeta, z: &[f64]) -> hdf5::Result<Self> {
+        let partial_path = partial_path(path);
+        let file = hdf5::File::create(&partial_path)?;
+        str_attr(&file, "case", &meta.case_text)?;
+        str_attr(&file, "version", env!("CARGO_PKG_VERSION"))?;
+        str_attr(&file, "git_hash", crate::GIT_HASH)?;
+        file.new_attr::<u64>()
+            .create("ranks")?
+            .write_scalar(&(meta.ranks as u64))?;
+        let names = meta.species.join(",");
+        let axial = file.create_group("axial")?;
+        str_attr(&axial, "species", &names)?;
+        let (ns, nz) = (meta.species.len(), z.len());
+        axial
+            .new_dataset_builder()
+            .with_data(&Array1::from(z.to_vec()))
+            .create("z")?;
+        let rotations = axial
+            .new_dataset::<f64>()
+            .chunk(64)
+            .shape(0..)
+            .create("rotations")?;
+        let volume_fraction = axial
+            .new_dataset::<f64>()
+            .chunk((1, ns, nz))
+            .shape((0.., ns, nz))
+            .create("volume_fraction")?;
+        let count = axial
+            .new_dataset::<u64>()
+            .chunk((1, ns, nz))
+            .shape((0.., ns, nz))
+            .create("count")?;
+        str_attr(&rotations, "units", "drum rotations since time zero")?;
+        str_attr(&volume_fraction, "definition", "share of the particle volume in the slice held by each species (axes: sample, species, slice); NaN where the slice is empty")?;
+        str_attr(&count, "definition", "particles of each species whose centre lies in the slice (axes: sample, species, slice)")?;
+        Ok(RunFile {
+            file,
+            final_path: path.to_path_buf(),
+            partial_path,
+            rotations,
+            volume_fraction,
+            count,
+            samples: 0,
+            ns,
+            nz,
+        })
+    }
+
+    /// Append one axial sample taken at `rotations`.
+    pub fn append(&mut self, rotations: f64, s: &AxialSample) -> hdf5::Result<()> {
+        let t = self.samples;
+        self.rotations.resize(t + 1)?;
+        self.rotations
+            .write_slice(&Array1::from(vec![rotations]), t..t + 1)?;
+        self.volume_fraction.resize((t + 1, self.ns, self.nz))?;
+        let vf = Array2::from_shape_vec((self.ns, self.nz), s.volume_fraction.clone())
+            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        self.volume_fraction.write_slice(&vf, (t, .., ..))?;
+        self.count.resize((t + 1, self.ns, self.nz))?;
+        let c = Array2::from_shape_vec((self.ns, self.nz), s.count.clone())
+            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        self.count.write_slice(&c, (t, .., ..))?;
+        self.samples += 1;
+        Ok(())
+    }
+
+    /// Write the final particle state (sorted by id) under `/particles`.
+    pub fn write_particles(&self, states: &[ParticleState]) -> hdf5::Result<()> {
+        let g = self.file.create_group("particles")?;
+        let n = states.len();
+        let vec3 = |f: fn(&ParticleState) -> [f64; 3]| {
+            Array2::from_shape_vec((n, 3), states.iter().flat_map(f).collect()).expect("n x 3")
+        };
+        g.new_dataset_builder()
+            .with_data(&Array1::from_iter(states.iter().map(|s| s.id)))
+            .create("id")?;
+        g.new_dataset_builder()
+            .with_data(&Array1::from_iter(states.iter().map(|s| s.species)))
+            .create("species")?;
+        g.new_dataset_builder()
+            .with_data(&Array1::from_iter(states.iter().map(|s| s.diameter)))
+            .create("diameter")?;
+        g.new_dataset_builder()
+            .with_data(&vec3(|s| s.x))
+            .create("position")?;
+        g.new_dataset_builder()
+            .with_data(&vec3(|s| s.v))
+            .create("velocity")?;
+        g.new_dataset_builder()
+            .with_data(&vec3(|s| s.w))
+            .create("angular_velocity")?;
+        Ok(())
+    }
+
+    /// Close the file and give it its final name.
+    pub fn finish(self) -> std::io::Result<PathBuf> {
+        self.file.flush().map_err(std::io::Error::other)?;
+        drop(self.rotations);
+        drop(self.volume_fraction);
+        drop(self.count);
+        drop(self.file);
+        std::fs::rename(&self.partial_path, &self.final_path)?;
+        Ok(self.final_path)
+    }
+}

@@ -1,0 +1,184 @@
+//! Struct-of-arrays particle storage. The first `n_owned` entries are the particles this rank
+//! owns; the rest are ghost copies of neighbours' particles (rebuilt with the halo).
+
+use crate::physics::Materials;
+
+/// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`]).
+pub const PACKED_WORDS: usize = 12;
+/// Number of `f64` words of a ghost update (position, velocity, angular velocity).
+pub const UPDATE_WORDS: usize = 9;
+
+/// Particles owned by this rank followed by its ghosts.
+#[derive(Debug, Clone, Default)]
+pub struct Particles {
+    /// Number of owned particles (they come first).
+    pub n_owned: usize,
+    /// Global id, stable for the whole run.
+    pub id: Vec<u64>,
+    /// Species index.
+    pub species: Vec<u8>,
+    /// Diameter.
+    pub diameter: Vec<f64>,
+    /// `1/m`.
+    pub inv_mass: Vec<f64>,
+    /// `1/I` with `I = m d^2 / 10`.
+    pub inv_inertia: Vec<f64>,
+    /// Position (the axial coordinate wrapped into the drum for periodic ends).
+    pub x: Vec<[f64; 3]>,
+    /// Velocity.
+    pub v: Vec<[f64; 3]>,
+    /// Angular velocity.
+    pub w: Vec<[f64; 3]>,
+    /// Force.
+    pub f: Vec<[f64; 3]>,
+    /// Torque.
+    pub t: Vec<[f64; 3]>,
+    /// Axial offset of a ghost's periodic image, used only to bin it (0 for owned particles).
+    pub z_image: Vec<f64>,
+}
+
+/// One particle's full state, as created or received.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParticleState {
+    /// Global id.
+    pub id: u64,
+    /// Species index.
+    pub species: u8,
+    /// Diameter.
+    pub diameter: f64,
+    /// Position.
+    pub x: [f64; 3],
+    /// Velocity.
+    pub v: [f64; 3],
+    /// Angular velocity.
+    pub w: [f64; 3],
+}
+
+impl Particles {
+    /// Number of owned + ghost particles.
+    pub fn len(&self) -> usize {
+        self.id.len()
+    }
+
+    /// Whether there are no particles at all.
+    pub fn is_empty(&self) -> bool {
+        self.id.is_empty()
+    }
+
+    /// Append a particle (owned if no ghosts exist yet; callers keep owned ones first).
+    pub fn push(&mut self, p: &ParticleState, mat: &Materials, z_image: f64) {
+        let m = mat.mass(p.diameter);
+        self.id.push(p.id);
+        self.species.push(p.species);
+        self.diameter.push(p.diameter);
+        self.inv_mass.push(1.0 / m);
+        self.inv_inertia.push(1.0 / (0.1 * m * p.diameter * p.diameter));
+        self.x.push(p.x);
+        self.v.push(p.v);
+        self.w.push(p.w);
+        self.f.push([0.0; 3]);
+        self.t.push([0.0; 3]);
+        self.z_image.push(z_image);
+    }
+
+    /// Append an owned particle; no ghosts may be present.
+    pub fn push_owned(&mut self, p: &ParticleState, mat: &Materials) {
+        debug_assert_eq!(self.n_owned, self.len());
+        self.push(p, mat, 0.0);
+        self.n_owned += 1;
+    }
+
+    /// The state of particle `i`.
+    pub fn state(&self, i: usize) -> ParticleState {
+        ParticleState {
+            id: self.id[i],
+            species: self.species[i],
+            diameter: self.diameter[i],
+            x: self.x[i],
+            v: self.v[i],
+            w: self.w[i],
+        }
+    }
+
+    /// Drop every ghost.
+    pub fn clear_ghosts(&mut self) {
+        self.truncate(self.n_owned);
+    }
+
+    fn truncate(&mut self, n: usize) {
+        self.id.truncate(n);
+        self.species.truncate(n);
+        self.diameter.truncate(n);
+        self.inv_mass.truncate(n);
+        self.inv_inertia.truncate(n);
+        self.x.truncate(n);
+        self.v.truncate(n);
+        self.w.truncate(n);
+        self.f.truncate(n);
+        self.t.truncate(n);
+        self.z_image.truncate(n);
+    }
+
+    /// Remove the owned particles whose `leave` flag is set (ghosts must be cleared first),
+    /// keeping the others in their order.
+    pub fn remove_owned(&mut self, leave: &[bool]) {
+        debug_assert_eq!(self.n_owned, self.len());
+        let mut k = 0;
+        for i in 0..self.n_owned {
+            if !leave[i] {
+                if k != i {
+                    self.id[k] = self.id[i];
+                    self.species[k] = self.species[i];
+                    self.diameter[k] = self.diameter[i];
+                    self.inv_mass[k] = self.inv_mass[i];
+                    self.inv_inertia[k] = self.inv_inertia[i];
+                    self.x[k] = self.x[i];
+                    self.v[k] = self.v[i];
+                    self.w[k] = self.w[i];
+                    self.f[k] = self.f[i];
+                    self.t[k] = self.t[i];
+                }
+                k += 1;
+            }
+        }
+        self.truncate(k);
+        self.n_owned = k;
+    }
+
+    /// Append particle `i`'s full state to a message buffer.
+    pub fn pack(&self, i: usize, buf: &mut Vec<f64>) {
+        buf.push(self.id[i] as f64);
+        buf.push(self.species[i] as f64);
+        buf.push(self.diameter[i]);
+        buf.extend_from_slice(&self.x[i]);
+        buf.extend_from_slice(&self.v[i]);
+        buf.extend_from_slice(&self.w[i]);
+    }
+
+    /// Append particle `i`'s moving state (position, velocity, spin) to a message buffer.
+    pub fn pack_update(&self, i: usize, buf: &mut Vec<f64>) {
+        buf.extend_from_slice(&self.x[i]);
+        buf.extend_from_slice(&self.v[i]);
+        buf.extend_from_slice(&self.w[i]);
+    }
+
+    /// Overwrite particle `i`'s moving state from a ghost-update record.
+    pub fn unpack_update(&mut self, i: usize, rec: &[f64]) {
+        self.x[i].copy_from_slice(&rec[0..3]);
+        self.v[i].copy_from_slice(&rec[3..6]);
+        self.w[i].copy_from_slice(&rec[6..9]);
+    }
+}
+
+/// Decode one full-state record written by [`Particles::pack`].
+pub fn unpack(rec: &[f64]) -> ParticleState {
+    let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
+    ParticleState {
+        id: rec[0] as u64,
+        species: rec[1] as u8,
+        diameter: rec[2],
+        x: v3(3),
+        v: v3(6),
+        w: v3(9),
+    }
+}

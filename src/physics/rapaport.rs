@@ -1,0 +1,201 @@
+//! The Rapaport (2002, section III) contact model in reduced units: the truncated
+//! Lennard-Jones-derived repulsion (eq. 1), normal damping (eq. 2) and sliding friction with
+//! a Coulomb cap (eqs. 3-4), for particle pairs.
+//!
+//! Conventions: `r = x_a - x_b` points from `b` to `a`; the returned force acts on `a` and its
+//! negative on `b`. The pair is always evaluated with `a` the particle of lower global id, so
+//! every rank that evaluates it does the same arithmetic.
+
+use crate::case::Case;
+use nalgebra::Vector3;
+
+/// 3-vector of `f64`.
+pub type V3 = Vector3<f64>;
+
+/// `2^(1/6)`: the repulsion acts for `r < 2^(1/6) d_ij`.
+pub const CUTOFF_FACTOR: f64 = 1.122_462_048_309_373;
+
+/// Numerical factor of the moment of inertia of a solid sphere in Rapaport's torque rule
+/// (`I = KAPPA m d^2 / 2 = m d^2 / 10`).
+pub const KAPPA: f64 = 0.2;
+
+/// Smallest number of steps per contact period accepted by the time-step check.
+pub const STEPS_PER_PERIOD_MIN: f64 = 10.0;
+
+/// Interaction range of a pair of effective diameter `d_ij`.
+#[inline]
+pub fn cutoff(d_ij: f64) -> f64 {
+    CUTOFF_FACTOR * d_ij
+}
+
+/// Side of the cubic fcc cell of number density `rho` (4 sites per cell).
+pub fn fcc_spacing(rho: f64) -> f64 {
+    (4.0 / rho).cbrt()
+}
+
+/// Friction coefficients of one pair of materials.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Friction {
+    /// Sliding friction coefficient `gamma_s`.
+    pub gamma_s: f64,
+    /// Static friction coefficient `mu` (Coulomb cap).
+    pub mu: f64,
+}
+
+/// Result of a contact: force on `a` and the vector `n x f_s` from which both torques follow
+/// (`tau_a = -(d_a/2) n x f_s`, `tau_b = -(d_b/2) n x f_s`, section III).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// Total force on `a` (`f_n + f_s`); `b` receives its negative.
+    pub force: V3,
+    /// `n x f_s`, with `n` the unit vector from `b` to `a`.
+    pub n_cross_fs: V3,
+}
+
+/// Magnitude of the repulsion of eq. (1) at distance `r` for effective diameter `d_ij`
+/// (positive = repulsive); zero at and beyond the cutoff.
+#[inline]
+pub fn repulsion(r: f64, d_ij: f64) -> f64 {
+    if r >= cutoff(d_ij) {
+        return 0.0;
+    }
+    let s = d_ij / r;
+    let s6 = s * s * s * s * s * s;
+    48.0 / r * (s6 * s6 - 0.5 * s6)
+}
+
+/// Sliding friction of eq. (4): `-min(gamma_s |v_s|, mu |f_n|) v_s/|v_s|`.
+#[inline]
+fn sliding(v_s: V3, f_n_mag: f64, fr: Friction) -> V3 {
+    let vs = v_s.norm();
+    if vs == 0.0 {
+        return V3::zeros();
+    }
+    let mag = (fr.gamma_s * vs).min(fr.mu * f_n_mag.abs());
+    v_s * (-mag / vs)
+}
+
+/// Force between particles `a` and `b` (section III), or `None` beyond the cutoff.
+///
+/// `r` is `x_a - x_b` (already the periodic minimum image), `v_*` the velocities, `w_*` the
+/// angular velocities, `d_*` the diameters.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn pair(
+    r: V3,
+    v_a: V3,
+    v_b: V3,
+    w_a: V3,
+    w_b: V3,
+    d_a: f64,
+    d_b: f64,
+    gamma_n: f64,
+    fr: Friction,
+) -> Option<Contact> {
+    let d_ab = 0.5 * (d_a + d_b);
+    let rc = cutoff(d_ab);
+    let r2 = r.norm_squared();
+    if r2 >= rc * rc {
+        return None;
+    }
+    let rr = r2.sqrt();
+    let n = r / rr;
+    let v = v_a - v_b;
+    let vn = n.dot(&v);
+    // eq. (1) + eq. (2): total force along n.
+    let f_n = repulsion(rr, d_ab) - gamma_n * vn;
+    // eq. (3): relative transverse velocity at the contact, with both spins.
+    let w_eff = (w_a * d_a + w_b * d_b) / (d_a + d_b);
+    let v_s = v - n * vn - w_eff.cross(&r);
+    let f_s = sliding(v_s, f_n, fr);
+    Some(Contact {
+        force: n * f_n + f_s,
+        n_cross_fs: n.cross(&f_s),
+    })
+}
+
+/// Force of a wall on a particle (eq. 5 and the paragraph before it).
+///
+/// `r` is the vector from the effective wall point to the particle centre (`r'_iw`), `v_wall`
+/// the wall's velocity there, `d_iw = (d_i + d_wall)/2`. The sliding velocity is the paper's
+/// `v_iw - (n . v_iw) n - w_i x r'_iw`, as printed.
+#[inline]
+pub fn wall(
+    r: V3,
+    v: V3,
+    w: V3,
+    v_wall: V3,
+    d_iw: f64,
+    gamma_n: f64,
+    fr: Friction,
+) -> Option<Contact> {
+    let rc = cutoff(d_iw);
+    let r2 = r.norm_squared();
+    if r2 >= rc * rc || r2 == 0.0 {
+        return None;
+    }
+    let rr = r2.sqrt();
+    let n = r / rr;
+    let v_iw = v - v_wall;
+    let vn = n.dot(&v_iw);
+    let f_n = repulsion(rr, d_iw) - gamma_n * vn;
+    let v_s = v_iw - n * vn - w.cross(&r);
+    let f_s = sliding(v_s, f_n, fr);
+    Some(Contact {
+        force: n * f_n + f_s,
+        n_cross_fs: n.cross(&f_s),
+    })
+}
+
+/// Stiffness of the repulsion at contact (`r = d_ij`): `|dF/dr| = 456 / d_ij^2`.
+pub fn contact_stiffness(d_ij: f64) -> f64 {
+    456.0 / (d_ij * d_ij)
+}
+
+/// Limits on the time step implied by a case.
+#[derive(Debug, Clone, Copy)]
+pub struct StepLimits {
+    /// Shortest harmonic period `2 pi sqrt(m_eff / k)` of any contact (pairs and walls).
+    pub period_min: f64,
+    /// Largest accepted time step (`period_min / STEPS_PER_PERIOD_MIN`).
+    pub dt_max: f64,
+    /// Largest damping rate `gamma / m_eff` (normal and sliding, with the rotational
+    /// contribution to the tangential effective mass).
+    pub damping_rate_max: f64,
+}
+
+/// Time-step limits of `case` from its smallest particles (nominal diameter minus spread).
+pub fn step_limits(case: &Case) -> StepLimits {
+    let mass = |d: f64| case.model.density * std::f64::consts::PI / 6.0 * d * d * d;
+    let mut period_min = f64::INFINITY;
+    let mut rate_max: f64 = 0.0;
+    let gamma_s_max = case
+        .species
+        .iter()
+        .flat_map(|s| [s.gamma_s, s.gamma_s_wall])
+        .fold(0.0, f64::max);
+    for a in &case.species {
+        let da = a.diameter - a.diameter_spread;
+        let ma = mass(da);
+        // against the wall (infinite mass)
+        let d_iw = 0.5 * (da + case.model.wall_diameter);
+        let mut consider = |d_ij: f64, m_eff: f64| {
+            let k = contact_stiffness(d_ij);
+            period_min = period_min.min(2.0 * std::f64::consts::PI * (m_eff / k).sqrt());
+            // tangential effective mass of a sphere pair is 2/7 of the normal one
+            let rate = (case.model.gamma_n.max(gamma_s_max * 3.5)) / m_eff;
+            rate_max = rate_max.max(rate);
+        };
+        consider(d_iw, ma);
+        for b in &case.species {
+            let db = b.diameter - b.diameter_spread;
+            let mb = mass(db);
+            consider(0.5 * (da + db), ma * mb / (ma + mb));
+        }
+    }
+    StepLimits {
+        period_min,
+        dt_max: period_min / STEPS_PER_PERIOD_MIN,
+        damping_rate_max: rate_max,
+    }
+}

@@ -1,0 +1,214 @@
+//! A whole run: initial state, the step loop with sampling and progress, and the outputs.
+
+use crate::case::LoadedCase;
+use crate::comm::Comm;
+use crate::diag::AxialBins;
+use crate::engine::{Phase, Sim, PHASES};
+use crate::init::lattice;
+use crate::output::{spacetime, RunFile, RunMeta};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of `tumbler run` beyond the case.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The HDF5 file to write.
+    pub output: PathBuf,
+    /// Replace an existing output file.
+    pub overwrite: bool,
+}
+
+/// What a finished run reports.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    /// Particles in the run.
+    pub particles: u64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Wall-clock seconds of the step loop.
+    pub seconds: f64,
+    /// Particle-steps per second over all ranks.
+    pub particle_steps_per_second: f64,
+}
+
+/// Steps in `rotations` turns of the drum.
+pub fn steps_for(rotations: f64, omega: f64, dt: f64) -> u64 {
+    (rotations * 2.0 * std::f64::consts::PI / (omega.abs() * dt)).round() as u64
+}
+
+/// The PNG written next to `output` (`NAME.h5` -> `NAME_spacetime.png`).
+pub fn spacetime_path(output: &Path) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "run".into());
+    output.with_file_name(format!("{stem}_spacetime.png"))
+}
+
+/// Run `lc` on the ranks of `comm`. Rank 0 writes the outputs.
+pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSummary, String> {
+    let case = &lc.case;
+    let root = comm.rank() == 0;
+    let initial = lattice(case);
+    let n_total = initial.len() as u64;
+    let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
+    drop(initial);
+
+    // Open the output on rank 0 only once everything else is known to be fine.
+    let mut file = None;
+    let mut open_err = String::new();
+    if root {
+        if opts.output.exists() && !opts.overwrite {
+            open_err = format!(
+                "output file {} exists; pass --overwrite to replace it or -o to choose another",
+                opts.output.display()
+            );
+        } else {
+            let meta = RunMeta {
+                case_text: lc.text.clone(),
+                ranks: comm.size(),
+                species: case.species.iter().map(|s| s.name.clone()).collect(),
+            };
+            let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
+            let bins = AxialBins::new(case.drum.length, case.output.slice_width, case.species.len(), d_max);
+            match RunFile::create(&opts.output, &meta, &bins.centres()) {
+                Ok(f) => file = Some(f),
+                Err(e) => {
+                    open_err = format!("cannot create output file {}: {e}", opts.output.display())
+                }
+            }
+        }
+    }
+    if !comm.all_ok(open_err.is_empty()) {
+        return Err(if root { open_err } else { "rank 0 could not open the output".into() });
+    }
+
+    let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
+    let bins = AxialBins::new(case.drum.length, case.output.slice_width, case.species.len(), d_max);
+    let big = case
+        .species
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.diameter.total_cmp(&b.1.diameter))
+        .map(|(k, _)| k)
+        .unwrap_or(0);
+    let (omega, dt) = (case.drum.omega, case.run.dt);
+    let total = steps_for(case.run.rotations, omega, dt);
+    let every = steps_for(case.output.sample_every, omega, dt).max(1);
+    let progress_every = steps_for(case.output.progress_every, omega, dt).max(1);
+    if root {
+        log::info!(
+            "{}: {} particles on {} ranks, {} steps ({} rotations), dt = {}",
+            lc.path,
+            n_total,
+            comm.size(),
+            total,
+            case.run.rotations,
+            dt
+        );
+    }
+
+    let mut columns: Vec<Vec<f64>> = Vec::new();
+    let mut sample = |sim: &mut Sim, file: &mut Option<RunFile>| -> Result<(), String> {
+        let s = bins.gather(&sim.p, comm);
+        let mut ok = true;
+        if let (Some(s), Some(f)) = (s, file.as_mut()) {
+            let counted: u64 = s.count.iter().sum();
+            if counted != n_total {
+                log::error!(
+                    "particle count is {counted} at step {}, expected {n_total}",
+                    sim.step
+                );
+                ok = false;
+            }
+            columns.push(s.volume_fraction[big * bins.nz..(big + 1) * bins.nz].to_vec());
+            if let Err(e) = f.append(sim.rotations(), &s) {
+                log::error!("writing the axial sample: {e}");
+                ok = false;
+            }
+        }
+        if comm.all_ok(ok) {
+            Ok(())
+        } else {
+            Err("stopped: the particle count changed or the output could not be written".into())
+        }
+    };
+
+    sample(&mut sim, &mut file)?;
+    let start = Instant::now();
+    let mut last_report = (Instant::now(), 0u64);
+    while sim.step < total {
+        sim.step();
+        if sim.step % every == 0 || sim.step == total {
+            let t0 = Instant::now();
+            sample(&mut sim, &mut file)?;
+            sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
+        }
+        if root && sim.step % progress_every == 0 {
+            let (t_prev, s_prev) = last_report;
+            let rate = (sim.step - s_prev) as f64 / t_prev.elapsed().as_secs_f64().max(1e-9);
+            let eta = (total - sim.step) as f64 / rate;
+            log::info!(
+                "rotation {:.1}/{} ({:.0}%), {:.2} M particle-steps/s, ETA {}",
+                sim.rotations(),
+                case.run.rotations,
+                100.0 * sim.step as f64 / total as f64,
+                rate * n_total as f64 / 1e6,
+                crate::report::duration(eta)
+            );
+            last_report = (Instant::now(), sim.step);
+        }
+    }
+    let seconds = start.elapsed().as_secs_f64();
+
+    let states = sim.gather_sorted();
+    let mut write_err = String::new();
+    if let (Some(states), Some(f)) = (states, file) {
+        let written = f
+            .write_particles(&states)
+            .map_err(|e| e.to_string())
+            .and_then(|_| f.finish().map_err(|e| e.to_string()))
+            .and_then(|path| {
+                spacetime::write_png(&spacetime_path(&path), &columns).map_err(|e| e.to_string())
+            });
+        if let Err(e) = written {
+            write_err = format!("writing {}: {e}", opts.output.display());
+        }
+    }
+    if !comm.all_ok(write_err.is_empty()) {
+        return Err(write_err);
+    }
+
+    let summary = RunSummary {
+        particles: n_total,
+        steps: sim.step,
+        seconds,
+        particle_steps_per_second: n_total as f64 * sim.step as f64 / seconds.max(1e-12),
+    };
+    if root {
+        log::info!(
+            "done: {} steps in {:.1} s, {:.3} M particle-steps/s on {} ranks ({:.3} M per rank); {} rebuilds",
+            summary.steps,
+            seconds,
+            summary.particle_steps_per_second / 1e6,
+            comm.size(),
+            summary.particle_steps_per_second / 1e6 / comm.size() as f64,
+            sim.rebuilds
+        );
+        let total_t = sim.timers.total().max(1e-12);
+        for ph in PHASES {
+            log::info!(
+                "  {:<16} {:>9.2} s  {:>5.1}%",
+                ph.name(),
+                sim.timers.get(ph),
+                100.0 * sim.timers.get(ph) / total_t
+            );
+        }
+        log::info!(
+            "wrote {} and {}",
+            opts.output.display(),
+            spacetime_path(&opts.output).display()
+        );
+    }
+    Ok(summary)
+}
