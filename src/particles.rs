@@ -72,7 +72,8 @@ impl Particles {
         self.species.push(p.species);
         self.diameter.push(p.diameter);
         self.inv_mass.push(1.0 / m);
-        self.inv_inertia.push(1.0 / (0.1 * m * p.diameter * p.diameter));
+        self.inv_inertia
+            .push(1.0 / (0.1 * m * p.diameter * p.diameter));
         self.x.push(p.x);
         self.v.push(p.v);
         self.w.push(p.w);

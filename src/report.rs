@@ -54,15 +54,50 @@ pub fn check_report(case: &Case, ranks: usize) -> String {
     let _ = writeln!(out, "case           {}", case.title);
     let _ = writeln!(out, "particles      {n}");
     for (s, c) in case.species.iter().zip(&per_species) {
-        let _ = writeln!(out, "  {:<12} {c} (d = {} - {})", s.name, s.diameter - s.diameter_spread, s.diameter);
+        let _ = writeln!(
+            out,
+            "  {:<12} {c} (d = {} - {})",
+            s.name,
+            s.diameter - s.diameter_spread,
+            s.diameter
+        );
     }
-    let _ = writeln!(out, "fill           {:.3} of the drum volume (solid fraction of particles)", vol_particles / vol_drum);
-    let _ = writeln!(out, "dt             {} (contact period {:.4}, {:.1} steps per period; max accepted {:.4})", case.run.dt, limits.period_min, limits.period_min / case.run.dt, limits.dt_max);
-    let _ = writeln!(out, "stiffness      {:.1} at contact for d_ij = {} (|dF/dr| of eq. 1)", rapaport::contact_stiffness(1.0), 1.0);
+    let _ = writeln!(
+        out,
+        "fill           {:.3} of the drum volume (solid fraction of particles)",
+        vol_particles / vol_drum
+    );
+    let _ = writeln!(
+        out,
+        "dt             {} (contact period {:.4}, {:.1} steps per period; max accepted {:.4})",
+        case.run.dt,
+        limits.period_min,
+        limits.period_min / case.run.dt,
+        limits.dt_max
+    );
+    let _ = writeln!(
+        out,
+        "stiffness      {:.1} at contact for d_ij = {} (|dF/dr| of eq. 1)",
+        rapaport::contact_stiffness(1.0),
+        1.0
+    );
     let _ = writeln!(out, "steps/rotation {steps_per_rot:.1}");
-    let _ = writeln!(out, "run            {} rotations = {} steps", case.run.rotations, total_steps);
+    let _ = writeln!(
+        out,
+        "run            {} rotations = {} steps",
+        case.run.rotations, total_steps
+    );
     let _ = writeln!(out, "Froude number  {froude:.4} (omega^2 R / g)");
-    let _ = writeln!(out, "ranks          {ranks}: slabs {slab:.3} long (at least {reach:.3} needed{})", if slab < reach { " -- TOO THIN" } else { "" });
-    let _ = writeln!(out, "memory         about {:.1} MiB per rank ({} B per particle)", mem / (1 << 20) as f64, BYTES_PER_PARTICLE);
+    let _ = writeln!(
+        out,
+        "ranks          {ranks}: slabs {slab:.3} long (at least {reach:.3} needed{})",
+        if slab < reach { " -- TOO THIN" } else { "" }
+    );
+    let _ = writeln!(
+        out,
+        "memory         about {:.1} MiB per rank ({} B per particle)",
+        mem / (1 << 20) as f64,
+        BYTES_PER_PARTICLE
+    );
     out
 }

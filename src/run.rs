@@ -70,7 +70,12 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
                 species: case.species.iter().map(|s| s.name.clone()).collect(),
             };
             let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-            let bins = AxialBins::new(case.drum.length, case.output.slice_width, case.species.len(), d_max);
+            let bins = AxialBins::new(
+                case.drum.length,
+                case.output.slice_width,
+                case.species.len(),
+                d_max,
+            );
             match RunFile::create(&opts.output, &meta, &bins.centres()) {
                 Ok(f) => file = Some(f),
                 Err(e) => {
@@ -80,11 +85,20 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         }
     }
     if !comm.all_ok(open_err.is_empty()) {
-        return Err(if root { open_err } else { "rank 0 could not open the output".into() });
+        return Err(if root {
+            open_err
+        } else {
+            "rank 0 could not open the output".into()
+        });
     }
 
     let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-    let bins = AxialBins::new(case.drum.length, case.output.slice_width, case.species.len(), d_max);
+    let bins = AxialBins::new(
+        case.drum.length,
+        case.output.slice_width,
+        case.species.len(),
+        d_max,
+    );
     let big = case
         .species
         .iter()
@@ -162,10 +176,12 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
     let seconds = start.elapsed().as_secs_f64();
 
     let states = sim.gather_sorted();
+    let migrations = comm.sum_u64(sim.migrated);
     let mut write_err = String::new();
     if let (Some(states), Some(f)) = (states, file) {
         let written = f
             .write_particles(&states)
+            .and_then(|_| f.write_stats(sim.step, sim.rebuilds, migrations))
             .map_err(|e| e.to_string())
             .and_then(|_| f.finish().map_err(|e| e.to_string()))
             .and_then(|path| {
@@ -187,13 +203,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
     };
     if root {
         log::info!(
-            "done: {} steps in {:.1} s, {:.3} M particle-steps/s on {} ranks ({:.3} M per rank); {} rebuilds",
+            "done: {} steps in {:.1} s, {:.3} M particle-steps/s on {} ranks ({:.3} M per rank); {} rebuilds, {} migrations",
             summary.steps,
             seconds,
             summary.particle_steps_per_second / 1e6,
             comm.size(),
             summary.particle_steps_per_second / 1e6 / comm.size() as f64,
-            sim.rebuilds
+            sim.rebuilds,
+            migrations
         );
         let total_t = sim.timers.total().max(1e-12);
         for ph in PHASES {

@@ -48,8 +48,12 @@ pub struct LoadedCase {
 /// Read, override, parse and validate the case file at `path`.
 pub fn load_case(path: &Path, overrides: &[String]) -> Result<LoadedCase, Vec<CaseError>> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| vec![CaseError::new(&name, format!("cannot read the case file: {e}"))])?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        vec![CaseError::new(
+            &name,
+            format!("cannot read the case file: {e}"),
+        )]
+    })?;
     let text = apply_overrides(&text, overrides, &name).map_err(|e| vec![e])?;
     let case = parse_case(&text, &name)?;
     Ok(LoadedCase {
@@ -98,7 +102,10 @@ pub fn apply_overrides(text: &str, overrides: &[String], name: &str) -> Result<S
         let key = key.trim();
         let parts: Vec<&str> = key.split('.').map(str::trim).collect();
         if parts.iter().any(|p| p.is_empty()) {
-            return Err(CaseError::new(format!("--set {key}"), "empty part in the key"));
+            return Err(CaseError::new(
+                format!("--set {key}"),
+                "empty part in the key",
+            ));
         }
         set_in_table(doc.as_table_mut(), &parts, parse_value(raw.trim()))
             .map_err(|why| CaseError::new(format!("--set {key}"), why))?;
@@ -128,12 +135,12 @@ fn set_in_table(table: &mut dyn TableLike, parts: &[&str], value: Value) -> Resu
         Item::Value(Value::InlineTable(t)) => set_in_table(t, rest, value),
         Item::ArrayOfTables(arr) => {
             let len = arr.len();
-            let idx: usize = rest[0]
-                .parse()
-                .map_err(|_| format!("`{}` must be an index (0..{len}) into [[{head}]]", rest[0]))?;
-            let t = arr
-                .get_mut(idx)
-                .ok_or_else(|| format!("index {idx} is out of range: there are {len} [[{head}]]"))?;
+            let idx: usize = rest[0].parse().map_err(|_| {
+                format!("`{}` must be an index (0..{len}) into [[{head}]]", rest[0])
+            })?;
+            let t = arr.get_mut(idx).ok_or_else(|| {
+                format!("index {idx} is out of range: there are {len} [[{head}]]")
+            })?;
             if rest.len() == 1 {
                 return Err("cannot replace a whole table".into());
             }

@@ -21,8 +21,16 @@ impl Comm for SerialComm {
         to_up: &[f64],
     ) -> (Vec<f64>, Vec<f64>) {
         // What we send up arrives from below, and vice versa.
-        let from_down = if down.is_some() { to_up.to_vec() } else { Vec::new() };
-        let from_up = if up.is_some() { to_down.to_vec() } else { Vec::new() };
+        let from_down = if down.is_some() {
+            to_up.to_vec()
+        } else {
+            Vec::new()
+        };
+        let from_up = if up.is_some() {
+            to_down.to_vec()
+        } else {
+            Vec::new()
+        };
         (from_down, from_up)
     }
     fn max_f64(&self, x: f64) -> f64 {

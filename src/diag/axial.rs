@@ -92,7 +92,8 @@ impl AxialBins {
             let total: i64 = (0..self.ns).map(|s| acc[m + s * self.nz + k]).sum();
             if total > 0 {
                 for s in 0..self.ns {
-                    volume_fraction[s * self.nz + k] = acc[m + s * self.nz + k] as f64 / total as f64;
+                    volume_fraction[s * self.nz + k] =
+                        acc[m + s * self.nz + k] as f64 / total as f64;
                 }
             }
         }

@@ -13,7 +13,12 @@ pub struct ForceStats {
 }
 
 /// Zero the forces and torques of all local particles and add the pair contacts.
-pub fn pair_forces(p: &mut Particles, nl: &NeighborList, mat: &Materials, period: Option<f64>) -> ForceStats {
+pub fn pair_forces(
+    p: &mut Particles,
+    nl: &NeighborList,
+    mat: &Materials,
+    period: Option<f64>,
+) -> ForceStats {
     for f in p.f.iter_mut() {
         *f = [0.0; 3];
     }

@@ -54,7 +54,10 @@ pub fn migrate(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Material
     }
     p.remove_owned(&leave);
     let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
-    for rec in from_down.chunks_exact(PACKED_WORDS).chain(from_up.chunks_exact(PACKED_WORDS)) {
+    for rec in from_down
+        .chunks_exact(PACKED_WORDS)
+        .chain(from_up.chunks_exact(PACKED_WORDS))
+    {
         p.push_owned(&unpack(rec), mat);
     }
     sent
@@ -62,7 +65,13 @@ pub fn migrate(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Material
 
 /// Build the ghost halo: each rank sends the owned particles within `reach` of each face to
 /// the neighbour across it, and appends what it receives as ghosts.
-pub fn borders(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Materials, reach: f64) -> Halo {
+pub fn borders(
+    p: &mut Particles,
+    slabs: &Slabs,
+    comm: &dyn Comm,
+    mat: &Materials,
+    reach: f64,
+) -> Halo {
     p.clear_ghosts();
     let me = comm.rank();
     let (down, up) = (slabs.down(me), slabs.up(me));
@@ -114,8 +123,16 @@ pub fn update_ghosts(p: &mut Particles, halo: &Halo, slabs: &Slabs, comm: &dyn C
         p.pack_update(i, &mut to_up);
     }
     let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
-    assert_eq!(from_down.len(), halo.n_from_down * UPDATE_WORDS, "ghost update size from below");
-    assert_eq!(from_up.len(), halo.n_from_up * UPDATE_WORDS, "ghost update size from above");
+    assert_eq!(
+        from_down.len(),
+        halo.n_from_down * UPDATE_WORDS,
+        "ghost update size from below"
+    );
+    assert_eq!(
+        from_up.len(),
+        halo.n_from_up * UPDATE_WORDS,
+        "ghost update size from above"
+    );
     let first = p.n_owned;
     for (k, rec) in from_down.chunks_exact(UPDATE_WORDS).enumerate() {
         p.unpack_update(first + k, rec);

@@ -100,7 +100,11 @@ impl NeighborList {
         for i in 0..p.n_owned {
             let xi = p.x[i];
             let zi = xi[2] + p.z_image[i];
-            let c = [grid.coord(xi[0], 0), grid.coord(xi[1], 1), grid.coord(zi, 2)];
+            let c = [
+                grid.coord(xi[0], 0),
+                grid.coord(xi[1], 1),
+                grid.coord(zi, 2),
+            ];
             let range = |k: usize| c[k].saturating_sub(1)..=(c[k] + 1).min(grid.n[k] - 1);
             for cz in range(2) {
                 for cy in range(1) {

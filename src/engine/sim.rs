@@ -53,7 +53,11 @@ pub struct Sim<'c> {
 impl<'c> Sim<'c> {
     /// Set up a rank from the global initial state (every rank sees all of it and keeps the
     /// particles in its own slab), and compute the initial forces.
-    pub fn new(case: &Case, comm: &'c dyn Comm, initial: &[ParticleState]) -> Result<Self, DecompositionError> {
+    pub fn new(
+        case: &Case,
+        comm: &'c dyn Comm,
+        initial: &[ParticleState],
+    ) -> Result<Self, DecompositionError> {
         let mat = Materials::new(case);
         let periodic = case.drum.ends == Ends::Periodic;
         let slabs = Slabs::uniform(comm.size(), case.drum.length, periodic);
@@ -131,7 +135,16 @@ impl<'c> Sim<'c> {
         let n = self.p.n_owned;
         let p = &mut self.p;
         self.timers.time(Phase::Integrate, || {
-            half_kick(n, 0.5 * dt, &mut p.v, &mut p.w, &p.f, &p.t, &p.inv_mass, &p.inv_inertia);
+            half_kick(
+                n,
+                0.5 * dt,
+                &mut p.v,
+                &mut p.w,
+                &p.f,
+                &p.t,
+                &p.inv_mass,
+                &p.inv_inertia,
+            );
             drift(n, dt, &mut p.x, &p.v, period);
         });
         let moved = self.timers.time(Phase::Comm, || {
@@ -148,14 +161,24 @@ impl<'c> Sim<'c> {
         // Migration may have changed the owned count.
         let (n, p) = (self.p.n_owned, &mut self.p);
         self.timers.time(Phase::Integrate, || {
-            half_kick(n, 0.5 * dt, &mut p.v, &mut p.w, &p.f, &p.t, &p.inv_mass, &p.inv_inertia);
+            half_kick(
+                n,
+                0.5 * dt,
+                &mut p.v,
+                &mut p.w,
+                &p.f,
+                &p.t,
+                &p.inv_mass,
+                &p.inv_inertia,
+            );
         });
         self.step += 1;
     }
 
     /// Migrate particles that left the slab, rebuild the halo and the pair list.
     fn rebuild(&mut self) {
-        let (p, slabs, comm, mat, reach) = (&mut self.p, &self.slabs, self.comm, &self.mat, self.reach);
+        let (p, slabs, comm, mat, reach) =
+            (&mut self.p, &self.slabs, self.comm, &self.mat, self.reach);
         let (sent, halo) = self.timers.time(Phase::Comm, || {
             p.clear_ghosts();
             let sent = halo::migrate(p, slabs, comm, mat);
@@ -164,16 +187,24 @@ impl<'c> Sim<'c> {
         self.migrated += sent as u64;
         self.halo = halo;
         let (lo, hi) = self.slabs.range(self.comm.rank());
-        let grid = Grid::new(self.walls.radius, lo - self.reach, hi + self.reach, self.reach);
+        let grid = Grid::new(
+            self.walls.radius,
+            lo - self.reach,
+            hi + self.reach,
+            self.reach,
+        );
         let (nl, p, skin) = (&mut self.nl, &self.p, self.case.run.skin);
-        self.timers.time(Phase::Neighbor, || nl.build(p, &grid, skin));
+        self.timers
+            .time(Phase::Neighbor, || nl.build(p, &grid, skin));
         self.rebuilds += 1;
     }
 
     fn forces(&mut self) {
         let period = self.period();
         let (p, nl, mat) = (&mut self.p, &self.nl, &self.mat);
-        let stats = self.timers.time(Phase::Pairs, || pair_forces(p, nl, mat, period));
+        let stats = self
+            .timers
+            .time(Phase::Pairs, || pair_forces(p, nl, mat, period));
         self.contacts = stats.contacts;
         let (walls, g) = (&self.walls, self.case.model.gravity);
         self.timers

@@ -30,7 +30,11 @@ pub fn lattice(case: &Case) -> Vec<ParticleState> {
     let gap = case.init.wall_gap;
     let capped = case.drum.ends == Ends::Capped;
     let a0 = fcc_spacing(case.init.density);
-    let d_min = case.species.iter().map(|s| s.diameter).fold(f64::MAX, f64::min);
+    let d_min = case
+        .species
+        .iter()
+        .map(|s| s.diameter)
+        .fold(f64::MAX, f64::min);
     let nspecies = case.species.len();
 
     let nb = match case.init.arrangement {
@@ -40,7 +44,11 @@ pub fn lattice(case: &Case) -> Vec<ParticleState> {
     let regions: Vec<Region> = (0..nb)
         .map(|k| {
             let mut z0 = -0.5 * l + l * k as f64 / nb as f64;
-            let mut z1 = if k + 1 == nb { 0.5 * l } else { -0.5 * l + l * (k + 1) as f64 / nb as f64 };
+            let mut z1 = if k + 1 == nb {
+                0.5 * l
+            } else {
+                -0.5 * l + l * (k + 1) as f64 / nb as f64
+            };
             if capped && k == 0 {
                 z0 += gap;
             }
@@ -54,7 +62,12 @@ pub fn lattice(case: &Case) -> Vec<ParticleState> {
                     (Some(s), a0 * case.species[s as usize].diameter / d_min)
                 }
             };
-            Region { z0, z1, species, spacing }
+            Region {
+                z0,
+                z1,
+                species,
+                spacing,
+            }
         })
         .collect();
 

@@ -3,6 +3,7 @@
 //! Public layout (read by users' scripts; keep the names):
 //! - `/axial/rotations` (T), `/axial/z` (Z), `/axial/volume_fraction` (T x S x Z),
 //!   `/axial/count` (T x S x Z);
+//! - root attributes `steps`, `rebuilds`, `migrations` (particles moved between ranks);
 //! - `/particles/{id, species, diameter, position, velocity, angular_velocity}`, the final
 //!   state sorted by id;
 //! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`.
@@ -49,8 +50,11 @@ pub fn partial_path(path: &Path) -> PathBuf {
 }
 
 fn str_attr(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> {
-    let v = VarLenUnicode::from_str(value).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
-    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
+    let v =
+        VarLenUnicode::from_str(value).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+    loc.new_attr::<VarLenUnicode>()
+        .create(name)?
+        .write_scalar(&v)
 }
 
 impl RunFile {
@@ -147,6 +151,18 @@ impl RunFile {
         g.new_dataset_builder()
             .with_data(&vec3(|s| s.w))
             .create("angular_velocity")?;
+        Ok(())
+    }
+
+    /// Record run statistics as root attributes (`steps`, `rebuilds`, `migrations`).
+    pub fn write_stats(&self, steps: u64, rebuilds: u64, migrations: u64) -> hdf5::Result<()> {
+        for (name, v) in [
+            ("steps", steps),
+            ("rebuilds", rebuilds),
+            ("migrations", migrations),
+        ] {
+            self.file.new_attr::<u64>().create(name)?.write_scalar(&v)?;
+        }
         Ok(())
     }
 

@@ -34,6 +34,8 @@ pub fn write_png(path: &Path, columns: &[Vec<f64>]) -> std::io::Result<()> {
     enc.set_color(png::ColorType::Grayscale);
     enc.set_depth(png::BitDepth::Eight);
     let mut writer = enc.write_header().map_err(std::io::Error::other)?;
-    writer.write_image_data(&img).map_err(std::io::Error::other)?;
+    writer
+        .write_image_data(&img)
+        .map_err(std::io::Error::other)?;
     Ok(())
 }

@@ -66,11 +66,27 @@ impl DrumWalls {
             let v_wall = V3::new(-x.y, x.x, 0.0) * self.omega;
             let h_low = x.z + self.half_length;
             if h_low < reach {
-                add(rapaport::wall(V3::new(0.0, 0.0, h_low), v, w, v_wall, d_iw, self.gamma_n, fr));
+                add(rapaport::wall(
+                    V3::new(0.0, 0.0, h_low),
+                    v,
+                    w,
+                    v_wall,
+                    d_iw,
+                    self.gamma_n,
+                    fr,
+                ));
             }
             let h_high = self.half_length - x.z;
             if h_high < reach {
-                add(rapaport::wall(V3::new(0.0, 0.0, -h_high), v, w, v_wall, d_iw, self.gamma_n, fr));
+                add(rapaport::wall(
+                    V3::new(0.0, 0.0, -h_high),
+                    v,
+                    w,
+                    v_wall,
+                    d_iw,
+                    self.gamma_n,
+                    fr,
+                ));
             }
         }
         out

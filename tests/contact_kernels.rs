@@ -1,0 +1,159 @@
+//! The Rapaport contact kernels against hand-computed values (section III).
+
+use tumbler::physics::rapaport::{self, Friction, CUTOFF_FACTOR, KAPPA, V3};
+
+const FR: Friction = Friction {
+    gamma_s: 10.0,
+    mu: 0.5,
+};
+
+#[test]
+fn repulsion_matches_eq1_by_hand() {
+    // r = d: 48/d (1 - 1/2) = 24/d
+    assert_eq!(rapaport::repulsion(1.0, 1.0), 24.0);
+    assert_eq!(rapaport::repulsion(2.0, 2.0), 12.0);
+    // r = 0.95, d = 1: 48/0.95 (0.95^-12 - 0.5 * 0.95^-6)
+    let r: f64 = 0.95;
+    let expect = 48.0 / r * (r.powi(-12) - 0.5 * r.powi(-6));
+    assert!((rapaport::repulsion(r, 1.0) - expect).abs() < 1e-12 * expect);
+}
+
+#[test]
+fn repulsion_is_continuous_at_the_cutoff() {
+    for d in [0.8, 1.0, 1.15, 1.3] {
+        let rc = CUTOFF_FACTOR * d;
+        // at the cutoff the bracket vanishes: (d/r)^6 = 1/2
+        let just_inside = rapaport::repulsion(rc * (1.0 - 1e-9), d);
+        assert!(just_inside >= 0.0 && just_inside < 1e-6, "{just_inside}");
+        assert_eq!(rapaport::repulsion(rc, d), 0.0);
+        assert_eq!(rapaport::repulsion(rc * 1.01, d), 0.0);
+        // and it is repulsive everywhere inside
+        for k in 1..100 {
+            let r = rc * k as f64 / 100.0;
+            assert!(rapaport::repulsion(r, d) > 0.0);
+        }
+    }
+}
+
+#[test]
+fn pair_force_is_equal_and_opposite() {
+    let (xa, xb) = (V3::new(0.1, 0.2, 0.3), V3::new(0.5, 0.9, 0.1));
+    let (va, vb) = (V3::new(1.0, -2.0, 0.5), V3::new(-0.3, 0.4, 0.2));
+    let (wa, wb) = (V3::new(0.3, 0.1, -2.0), V3::new(1.5, -0.7, 0.2));
+    let (da, db) = (1.0, 0.9);
+    let ab = rapaport::pair(xa - xb, va, vb, wa, wb, da, db, 5.0, FR).expect("in contact");
+    let ba = rapaport::pair(xb - xa, vb, va, wb, wa, db, da, 5.0, FR).expect("in contact");
+    for k in 0..3 {
+        assert!((ab.force[k] + ba.force[k]).abs() < 1e-12, "{ab:?} {ba:?}");
+        // n flips and f_s flips: n x f_s is the same seen from either side
+        assert!((ab.n_cross_fs[k] - ba.n_cross_fs[k]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn pair_force_by_hand_with_damping_and_capped_friction() {
+    // a along +x from b, overlapping; approaching along x, sliding along y.
+    let r = V3::new(0.9, 0.0, 0.0);
+    let va = V3::new(-1.0, 2.0, 0.0);
+    let vb = V3::zeros();
+    let w = V3::zeros();
+    let c = rapaport::pair(r, va, vb, w, w, 1.0, 1.0, 5.0, FR).unwrap();
+    let fv = rapaport::repulsion(0.9, 1.0);
+    let f_n = fv - 5.0 * (-1.0); // eq. 2 adds +5 (approaching)
+    assert!((c.force.x - f_n).abs() < 1e-12);
+    // sliding speed 2 along +y: gamma_s*2 = 20 > mu*f_n? f_n is large, so viscous 20 wins
+    let f_s = -(10.0f64 * 2.0).min(0.5 * f_n);
+    assert!((c.force.y - f_s).abs() < 1e-12, "{} {}", c.force.y, f_s);
+    assert_eq!(c.force.z, 0.0);
+    // n x f_s = x^ x (f_s y^) = f_s z^
+    assert!((c.n_cross_fs.z - f_s).abs() < 1e-12);
+
+    // With a weak normal force, the Coulomb cap mu |f_n| applies instead.
+    let r = V3::new(CUTOFF_FACTOR * 0.999, 0.0, 0.0);
+    let c = rapaport::pair(r, V3::new(0.0, 2.0, 0.0), vb, w, w, 1.0, 1.0, 0.0, FR).unwrap();
+    let f_n = rapaport::repulsion(r.x, 1.0);
+    assert!((c.force.y + 0.5 * f_n).abs() < 1e-12);
+}
+
+#[test]
+fn spins_enter_the_sliding_velocity_as_eq3() {
+    // Two equal touching spheres spinning in the same sense about z: surfaces at the contact
+    // move in opposite directions, so the sliding velocity is -(w d_i + w d_j)/(d_i+d_j) x r.
+    let r = V3::new(1.0, 0.0, 0.0);
+    let w = V3::new(0.0, 0.0, 1.0);
+    let fr = Friction {
+        gamma_s: 1.0,
+        mu: 100.0,
+    };
+    let c = rapaport::pair(r, V3::zeros(), V3::zeros(), w, w, 1.0, 1.0, 0.0, fr).unwrap();
+    // v_s = -(w x r) = -(z^ x x^) = -y^, so f_s = -gamma_s v_s = +y^
+    assert!((c.force.y - 1.0).abs() < 1e-12, "{:?}", c.force);
+}
+
+#[test]
+fn torque_rule_of_section_iii() {
+    // m_i d_i alpha_i = -n x f_s / kappa for both particles, with m = d^3 and I = m d^2 / 10.
+    use tumbler::engine::forces::pair_forces;
+    use tumbler::engine::neighbor::{Grid, NeighborList};
+    use tumbler::particles::{ParticleState, Particles};
+    use tumbler::physics::Materials;
+
+    let case = tumbler::case::parse_case(&common_case(), "test").unwrap();
+    let mat = Materials::new(&case);
+    let mut p = Particles::default();
+    let a = ParticleState {
+        id: 0,
+        species: 0,
+        diameter: 1.0,
+        x: [0.0, 0.0, 0.0],
+        v: [0.0, 1.0, 0.3],
+        w: [0.0, 0.0, 0.0],
+    };
+    let b = ParticleState {
+        id: 1,
+        species: 1,
+        diameter: 1.2,
+        x: [1.05, 0.0, 0.0],
+        v: [0.0, -0.5, 0.0],
+        w: [0.2, 0.0, 0.0],
+    };
+    p.push_owned(&a, &mat);
+    p.push_owned(&b, &mat);
+    let mut nl = NeighborList::default();
+    nl.build(&p, &Grid::new(5.0, -5.0, 5.0, 2.0), 0.3);
+    assert_eq!(nl.pairs.len(), 1);
+    pair_forces(&mut p, &nl, &mat, None);
+    let c = rapaport::pair(
+        V3::from(a.x) - V3::from(b.x),
+        V3::from(a.v),
+        V3::from(b.v),
+        V3::from(a.w),
+        V3::from(b.w),
+        1.0,
+        1.2,
+        mat.gamma_n,
+        mat.pair(0, 1),
+    )
+    .unwrap();
+    assert!(c.n_cross_fs.norm() > 0.0);
+    for (i, d) in [(0usize, 1.0f64), (1, 1.2)] {
+        let m = 1.0 / p.inv_mass[i];
+        assert!((m - d * d * d).abs() < 1e-12, "m = d^3");
+        let alpha = V3::from(p.t[i]) * p.inv_inertia[i];
+        let lhs = alpha * (m * d);
+        let rhs = -c.n_cross_fs / KAPPA;
+        assert!((lhs - rhs).norm() < 1e-9 * rhs.norm(), "{lhs:?} {rhs:?}");
+    }
+    // and the forces are equal and opposite
+    for k in 0..3 {
+        assert_eq!(p.f[0][k], -p.f[1][k]);
+    }
+}
+
+fn common_case() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/cases/periodic.toml"
+    ))
+    .unwrap()
+}
