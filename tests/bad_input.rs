@@ -216,20 +216,18 @@ fn more_ranks_than_slabs_is_refused_before_any_output() {
     let dir = tmpdir();
     let out = dir.path().join("out.h5");
     let case = case_path("periodic.toml");
-    // 24 / 14 = 1.7 is thinner than the interaction range + skin (1.76)
+    let c = parse_case(&base(), "x").unwrap();
+    let reach = tumbler::physics::rapaport::cutoff(1.3) + c.run.skin;
+    let fit = (c.drum.length / reach).floor() as usize;
+    let ranks = fit + 1;
     let o = mpirun(
-        14,
+        ranks,
         &["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()],
     );
     assert!(!o.status.success());
-    expect(
-        &String::from_utf8_lossy(&o.stderr),
-        &[
-            "14 ranks",
-            "thinner than the interaction range",
-            "use at most 13 ranks",
-        ],
-    );
+    let (r, most) = (format!("{ranks} ranks"), format!("use at most {fit} ranks"));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    expect(&stderr, &[&r, "thinner than the interaction range", &most]);
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 

@@ -24,7 +24,7 @@ fn repulsion_is_continuous_at_the_cutoff() {
         let rc = CUTOFF_FACTOR * d;
         // at the cutoff the bracket vanishes: (d/r)^6 = 1/2
         let just_inside = rapaport::repulsion(rc * (1.0 - 1e-9), d);
-        assert!(just_inside >= 0.0 && just_inside < 1e-6, "{just_inside}");
+        assert!((0.0..1e-6).contains(&just_inside), "{just_inside}");
         assert_eq!(rapaport::repulsion(rc, d), 0.0);
         assert_eq!(rapaport::repulsion(rc * 1.01, d), 0.0);
         // and it is repulsive everywhere inside
@@ -59,7 +59,8 @@ fn pair_force_by_hand_with_damping_and_capped_friction() {
     let w = V3::zeros();
     let c = rapaport::pair(r, va, vb, w, w, 1.0, 1.0, 5.0, FR).unwrap();
     let fv = rapaport::repulsion(0.9, 1.0);
-    let f_n = fv - 5.0 * (-1.0); // eq. 2 adds +5 (approaching)
+    let (gamma_n, v_n) = (5.0, -1.0); // approaching
+    let f_n = fv - gamma_n * v_n; // eq. 2 adds +5
     assert!((c.force.x - f_n).abs() < 1e-12);
     // sliding speed 2 along +y: gamma_s*2 = 20 > mu*f_n? f_n is large, so viscous 20 wins
     let f_s = -(10.0f64 * 2.0).min(0.5 * f_n);

@@ -179,7 +179,7 @@ pub struct Run {
 }
 
 fn default_skin() -> f64 {
-    0.3
+    0.5
 }
 
 /// Outputs.

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Install what is missing on a Debian machine, build tumbler, and run the quick case on two
+# MPI ranks (writes quickstart.h5 and quickstart_spacetime.png in the current directory).
+#   scripts/setup.sh            install + build + quick case
+#   scripts/setup.sh --no-run   install + build only
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+
+pkgs="libopenmpi-dev openmpi-bin libhdf5-dev libclang-dev pkg-config"
+missing=""
+for p in $pkgs; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  echo "installing:$missing"
+  $sudo apt-get update -qq
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing >/dev/null
+fi
+if ! command -v cargo >/dev/null 2>&1; then
+  echo "error: cargo not found; install Rust (https://rustup.rs) and run this again" >&2
+  exit 1
+fi
+
+cargo build --release --manifest-path "$here/Cargo.toml"
+[ "${1:-}" = "--no-run" ] && exit 0
+
+if [ "$(id -u)" -eq 0 ]; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+mpirun --oversubscribe -np 2 "$here/target/release/tumbler" run "$here/cases/quickstart.toml" \
+  -o quickstart.h5 --overwrite
