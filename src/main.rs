@@ -58,10 +58,16 @@ fn main() -> ExitCode {
         .init();
     match cli.command {
         Command::Check { case, set, ranks } => match load_case(&case, &set) {
-            Ok(lc) => {
-                print!("{}", tumbler::report::check_report(&lc.case, ranks.max(1)));
-                ExitCode::SUCCESS
-            }
+            Ok(lc) => match tumbler::report::check_report(&lc.case, ranks.max(1)) {
+                Ok(text) => {
+                    print!("{text}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            },
             Err(errs) => {
                 report_case_errors(&errs);
                 ExitCode::from(2)

@@ -1,10 +1,11 @@
 //! Struct-of-arrays particle storage. The first `n_owned` entries are the particles this rank
 //! owns; the rest are ghost copies of neighbours' particles (rebuilt with the halo).
 
+use crate::physics::materials::WALLS;
 use crate::physics::Materials;
 
 /// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`]).
-pub const PACKED_WORDS: usize = 12;
+pub const PACKED_WORDS: usize = 12 + 3 * WALLS;
 /// Number of `f64` words of a ghost update (position, velocity, angular velocity).
 pub const UPDATE_WORDS: usize = 9;
 
@@ -33,6 +34,8 @@ pub struct Particles {
     pub f: Vec<[f64; 3]>,
     /// Torque.
     pub t: Vec<[f64; 3]>,
+    /// Tangential history with each wall (curved, cap low, cap high); zero when not touching.
+    pub wall_hist: Vec<[[f64; 3]; WALLS]>,
     /// Axial offset of a ghost's periodic image, used only to bin it (0 for owned particles).
     pub z_image: Vec<f64>,
 }
@@ -52,6 +55,23 @@ pub struct ParticleState {
     pub v: [f64; 3],
     /// Angular velocity.
     pub w: [f64; 3],
+    /// Tangential history with each wall.
+    pub wall_hist: [[f64; 3]; WALLS],
+}
+
+impl ParticleState {
+    /// A particle with no wall contacts.
+    pub fn new(id: u64, species: u8, diameter: f64, x: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Self {
+        ParticleState {
+            id,
+            species,
+            diameter,
+            x,
+            v,
+            w,
+            wall_hist: [[0.0; 3]; WALLS],
+        }
+    }
 }
 
 impl Particles {
@@ -79,6 +99,7 @@ impl Particles {
         self.w.push(p.w);
         self.f.push([0.0; 3]);
         self.t.push([0.0; 3]);
+        self.wall_hist.push(p.wall_hist);
         self.z_image.push(z_image);
     }
 
@@ -98,6 +119,7 @@ impl Particles {
             x: self.x[i],
             v: self.v[i],
             w: self.w[i],
+            wall_hist: self.wall_hist[i],
         }
     }
 
@@ -117,6 +139,7 @@ impl Particles {
         self.w.truncate(n);
         self.f.truncate(n);
         self.t.truncate(n);
+        self.wall_hist.truncate(n);
         self.z_image.truncate(n);
     }
 
@@ -138,6 +161,7 @@ impl Particles {
                     self.w[k] = self.w[i];
                     self.f[k] = self.f[i];
                     self.t[k] = self.t[i];
+                    self.wall_hist[k] = self.wall_hist[i];
                 }
                 k += 1;
             }
@@ -154,6 +178,9 @@ impl Particles {
         buf.extend_from_slice(&self.x[i]);
         buf.extend_from_slice(&self.v[i]);
         buf.extend_from_slice(&self.w[i]);
+        for h in &self.wall_hist[i] {
+            buf.extend_from_slice(h);
+        }
     }
 
     /// Append particle `i`'s moving state (position, velocity, spin) to a message buffer.
@@ -174,6 +201,10 @@ impl Particles {
 /// Decode one full-state record written by [`Particles::pack`].
 pub fn unpack(rec: &[f64]) -> ParticleState {
     let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
+    let mut wall_hist = [[0.0; 3]; WALLS];
+    for (k, h) in wall_hist.iter_mut().enumerate() {
+        *h = v3(12 + 3 * k);
+    }
     ParticleState {
         id: rec[0] as u64,
         species: rec[1] as u8,
@@ -181,5 +212,6 @@ pub fn unpack(rec: &[f64]) -> ParticleState {
         x: v3(3),
         v: v3(6),
         w: v3(9),
+        wall_hist,
     }
 }

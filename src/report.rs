@@ -1,13 +1,13 @@
 //! Human-readable reports: `tumbler check`'s derived quantities and small formatting helpers.
 
-use crate::case::{Case, Ends};
-use crate::init::lattice;
-use crate::physics::rapaport;
+use crate::case::{Case, Family, InitKind};
+use crate::init::{initial_particles, pour};
+use crate::physics::law;
 use std::fmt::Write;
 
-/// Bytes of per-particle storage (owned arrays, neighbour list, build positions), used for
-/// the memory estimate.
-pub const BYTES_PER_PARTICLE: usize = 8 + 1 + 8 * 3 + 24 * 5 + 8 + 1 + 24 + 4 * 3 + 8 * 8;
+/// Bytes of per-particle storage (owned arrays, neighbour list with histories, build
+/// positions, cells), used for the memory estimate.
+pub const BYTES_PER_PARTICLE: usize = 8 + 1 + 8 * 3 + 24 * 5 + 72 + 8 + 24 + 4 * 3 + 8 * (8 + 24);
 
 /// `h m s` form of a duration in seconds.
 pub fn duration(secs: f64) -> String {
@@ -23,64 +23,96 @@ pub fn duration(secs: f64) -> String {
 }
 
 /// The derived quantities of a case, as `tumbler check` prints them; `ranks` sizes the slabs.
-pub fn check_report(case: &Case, ranks: usize) -> String {
+pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let mut out = String::new();
-    let initial = lattice(case);
-    let n = initial.len();
+    let (initial, _) = initial_particles(case)?;
+    let length = case.drum.axial_length();
+    let radius = 0.5 * case.drum.diameter;
     let mut per_species = vec![0usize; case.species.len()];
     for p in &initial {
         per_species[p.species as usize] += 1;
     }
-    let steps_per_rot = 2.0 * std::f64::consts::PI / (case.drum.omega.abs() * case.run.dt);
-    let total_steps = crate::run::steps_for(case.run.rotations, case.drum.omega, case.run.dt);
-    let limits = rapaport::step_limits(case);
-    let radius = 0.5 * case.drum.diameter;
-    let froude = case.drum.omega * case.drum.omega * radius / case.model.gravity;
-    let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-    let reach = rapaport::cutoff(d_max) + case.run.skin;
-    let slab = case.drum.length / ranks as f64;
-    let vol_particles: f64 = initial
-        .iter()
-        .map(|p| std::f64::consts::PI / 6.0 * p.diameter.powi(3))
-        .sum();
-    let vol_drum = std::f64::consts::PI * radius * radius * case.drum.length;
-    let ghosts_per_rank = if ranks > 1 || case.drum.ends == Ends::Periodic {
-        2.0 * reach / case.drum.length * n as f64
+    let poured = case.init.kind == InitKind::Pour;
+    // A pour keeps the part below the cut: estimate it by volume.
+    let kept = if poured { 0.6 / (0.64 * 1.25) } else { 1.0 };
+    let n = (initial.len() as f64 * kept).round() as usize;
+    let dt = case.dt();
+    let steps_per_rot = 2.0 * std::f64::consts::PI / (case.drum.omega.abs() * dt);
+    let total_steps = crate::run::steps_for(case.run.rotations, case.drum.omega, dt);
+    let limits = law::step_limits(case);
+    let froude =
+        case.drum.omega * case.drum.omega * radius / case.model.gravity.max(f64::MIN_POSITIVE);
+    let reach = law::reach(case);
+    let slab = length / ranks as f64;
+    let ghosts_per_rank = if ranks > 1 || case.drum.periodic() {
+        2.0 * reach / length * n as f64
     } else {
         0.0
     };
     let mem = (n as f64 / ranks as f64 + ghosts_per_rank) * BYTES_PER_PARTICLE as f64;
 
     let _ = writeln!(out, "case           {}", case.title);
-    let _ = writeln!(out, "particles      {n}");
+    if poured {
+        let _ = writeln!(
+            out,
+            "particles      about {n} after the cut ({} poured), fill {}",
+            initial.len(),
+            case.init.fill.unwrap_or(0.0)
+        );
+        let _ = writeln!(
+            out,
+            "cut height     y = {:.5}",
+            pour::cut_height(case.drum.shape, radius, case.init.fill.unwrap_or(0.0))
+        );
+    } else {
+        let _ = writeln!(out, "particles      {n}");
+    }
     for (s, c) in case.species.iter().zip(&per_species) {
         let _ = writeln!(
             out,
-            "  {:<12} {c} (d = {} - {})",
+            "  {:<12} {c}{} (d = {} - {})",
             s.name,
-            s.diameter - s.diameter_spread,
-            s.diameter
+            if poured { " poured" } else { "" },
+            law::smallest_diameter(s),
+            law::largest_diameter(s)
         );
     }
-    let _ = writeln!(
-        out,
-        "fill           {:.3} of the drum volume (solid fraction of particles)",
-        vol_particles / vol_drum
-    );
-    let _ = writeln!(
-        out,
-        "dt             {} (contact period {:.4}, {:.1} steps per period; max accepted {:.4})",
-        case.run.dt,
-        limits.period_min,
-        limits.period_min / case.run.dt,
-        limits.dt_max
-    );
-    let _ = writeln!(
-        out,
-        "stiffness      {:.1} at contact for d_ij = {} (|dF/dr| of eq. 1)",
-        rapaport::contact_stiffness(1.0),
-        1.0
-    );
+    match case.model.family {
+        Family::Rapaport => {
+            let _ = writeln!(
+                out,
+                "stiffness      {:.1} at contact for d_ij = 1 (|dF/dr| of eq. 1)",
+                crate::physics::rapaport::contact_stiffness(1.0)
+            );
+        }
+        Family::SpringDashpot => {
+            if let (Some(tc), Some(e)) = (case.model.collision_time, case.model.restitution) {
+                let gamma = -e.ln() / tc;
+                let k0 = (std::f64::consts::PI / tc).powi(2) + gamma * gamma;
+                let m = |d: f64| case.model.density * std::f64::consts::PI / 6.0 * d.powi(3);
+                for (i, a) in case.species.iter().enumerate() {
+                    for b in &case.species[i..] {
+                        let (ma, mb) = (m(a.diameter), m(b.diameter));
+                        let _ = writeln!(
+                            out,
+                            "k_n {:>6}-{:<6} {:.4e} N/m (nominal sizes; gamma_n = {:.3} 1/s)",
+                            a.name,
+                            b.name,
+                            k0 * ma * mb / (ma + mb),
+                            gamma
+                        );
+                    }
+                    let _ = writeln!(
+                        out,
+                        "k_n {:>6}-wall   {:.4e} N/m",
+                        a.name,
+                        k0 * m(a.diameter)
+                    );
+                }
+            }
+        }
+    }
+    let _ = writeln!(out, "dt             {dt:.4e} ({:.1} steps per shortest contact {:.4e}; at most {:.4e} accepted)", limits.contact_time_min / dt, limits.contact_time_min, limits.dt_max);
     let _ = writeln!(out, "steps/rotation {steps_per_rot:.1}");
     let _ = writeln!(
         out,
@@ -90,7 +122,7 @@ pub fn check_report(case: &Case, ranks: usize) -> String {
     let _ = writeln!(out, "Froude number  {froude:.4} (omega^2 R / g)");
     let _ = writeln!(
         out,
-        "ranks          {ranks}: slabs {slab:.3} long (at least {reach:.3} needed{})",
+        "ranks          {ranks}: slabs {slab:.4} long (at least {reach:.4} needed{})",
         if slab < reach { " -- TOO THIN" } else { "" }
     );
     let _ = writeln!(
@@ -99,5 +131,5 @@ pub fn check_report(case: &Case, ranks: usize) -> String {
         mem / (1 << 20) as f64,
         BYTES_PER_PARTICLE
     );
-    out
+    Ok(out)
 }

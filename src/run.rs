@@ -4,7 +4,7 @@ use crate::case::LoadedCase;
 use crate::comm::Comm;
 use crate::diag::AxialBins;
 use crate::engine::{Phase, Sim, PHASES};
-use crate::init::lattice;
+use crate::init::{initial_particles, pour};
 use crate::output::{spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -49,11 +49,32 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
 pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSummary, String> {
     let case = &lc.case;
     let root = comm.rank() == 0;
-    let initial = lattice(case);
-    let n_total = initial.len() as u64;
+    let (initial, start_scale) = initial_particles(case)?;
     let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
     drop(initial);
+    if case.init.kind == crate::case::InitKind::Pour {
+        let t0 = Instant::now();
+        let r = pour::grow_settle_cut(&mut sim, case, start_scale)?;
+        if root {
+            log::info!(
+                "pour: {} particles poured, {} kept below the cut at y = {:.5} (fill {:.4} requested, {:.4} measured from the bed top) in {:.1} s",
+                r.poured,
+                r.kept,
+                r.cut_height,
+                case.init.fill.unwrap_or(0.0),
+                r.measured_fill,
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    }
+    let n_total = sim.global_count();
 
+    let bins = AxialBins::new(
+        case.drum.axial_length(),
+        case.slice_width(),
+        case.species.len(),
+        case.d_max(),
+    );
     // Open the output on rank 0 only once everything else is known to be fine.
     let mut file = None;
     let mut open_err = String::new();
@@ -69,13 +90,6 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
                 ranks: comm.size(),
                 species: case.species.iter().map(|s| s.name.clone()).collect(),
             };
-            let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-            let bins = AxialBins::new(
-                case.drum.length,
-                case.output.slice_width,
-                case.species.len(),
-                d_max,
-            );
             match RunFile::create(&opts.output, &meta, &bins.centres()) {
                 Ok(f) => file = Some(f),
                 Err(e) => {
@@ -92,13 +106,6 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         });
     }
 
-    let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-    let bins = AxialBins::new(
-        case.drum.length,
-        case.output.slice_width,
-        case.species.len(),
-        d_max,
-    );
     let big = case
         .species
         .iter()
@@ -106,7 +113,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         .max_by(|a, b| a.1.diameter.total_cmp(&b.1.diameter))
         .map(|(k, _)| k)
         .unwrap_or(0);
-    let (omega, dt) = (case.drum.omega, case.run.dt);
+    let (omega, dt) = (case.drum.omega, case.dt());
     let total = steps_for(case.run.rotations, omega, dt);
     let every = steps_for(case.output.sample_every, omega, dt).max(1);
     let progress_every = steps_for(case.output.progress_every, omega, dt).max(1);

@@ -52,7 +52,9 @@ fn misspelled_key_is_named() {
 #[test]
 fn missing_key_is_named() {
     let m = refusal(|t| t.replace("length = 24.0\n", ""));
-    expect(&m, &["missing field `length`"]);
+    expect(&m, &["drum.length", "required for a cylinder"]);
+    let m = refusal(|t| t.replace("seed = 7\n", ""));
+    expect(&m, &["missing field `seed`"]);
 }
 
 #[test]
@@ -179,8 +181,8 @@ fn overrides_reach_every_key() {
     .unwrap();
     let c = parse_case(&text, "x").unwrap();
     assert_eq!(c.run.rotations, 3.0);
-    assert_eq!(c.species[1].gamma_s, 4.5);
-    assert_eq!(c.drum.ends, tumbler::case::Ends::Capped);
+    assert_eq!(c.species[1].gamma_s, Some(4.5));
+    assert_eq!(c.drum.ends, Some(tumbler::case::Ends::Capped));
 }
 
 #[test]
@@ -217,8 +219,8 @@ fn more_ranks_than_slabs_is_refused_before_any_output() {
     let out = dir.path().join("out.h5");
     let case = case_path("periodic.toml");
     let c = parse_case(&base(), "x").unwrap();
-    let reach = tumbler::physics::rapaport::cutoff(1.3) + c.run.skin;
-    let fit = (c.drum.length / reach).floor() as usize;
+    let reach = tumbler::physics::law::reach(&c);
+    let fit = (c.drum.axial_length() / reach).floor() as usize;
     let ranks = fit + 1;
     let o = mpirun(
         ranks,

@@ -20,20 +20,13 @@ fn kinetic(sim: &Sim) -> f64 {
 }
 
 fn ball(id: u64, d: f64, x: [f64; 3], v: [f64; 3]) -> ParticleState {
-    ParticleState {
-        id,
-        species: 0,
-        diameter: d,
-        x,
-        v,
-        w: [0.0; 3],
-    }
+    ParticleState::new(id, 0, d, x, v, [0.0; 3])
 }
 
 /// Run until the contact is over; return (kinetic energy lost, energy the damping took by
 /// the trapezoid rule on the normal approach speed `vn(sim)` while in contact).
 fn collide(sim: &mut Sim, vn: impl Fn(&Sim) -> Option<f64>, gamma_n: f64) -> (f64, f64) {
-    let dt = sim.case.run.dt;
+    let dt = sim.dt;
     let e0 = kinetic(sim);
     let mut dissipated = 0.0;
     let mut prev = vn(sim).unwrap_or(0.0);
@@ -122,9 +115,10 @@ fn elastic_head_on_collision_conserves_energy() {
 fn end_cap_collision_loses_the_damping_energy() {
     let gamma_n = 5.0;
     let case = pair_case("5.0");
-    let half = 0.5 * case.drum.length;
+    let half = 0.5 * case.drum.axial_length();
     let d_iw = 0.5 * (1.0 + case.model.wall_diameter);
     let rc = tumbler::physics::rapaport::cutoff(d_iw);
+    let _ = &case;
     // on the axis the cap does not move, so the collision is purely normal
     let a = ball(0, 1.0, [0.0, 0.0, -half + rc + 0.05], [0.0, 0.0, -1.5]);
     let comm = SerialComm;
@@ -156,7 +150,7 @@ fn carried(ends: &str, omega: f64) -> (f64, f64) {
     let comm = SerialComm;
     let mut sim = Sim::new(&case, &comm, &[a]).unwrap();
     let mut extreme: f64 = 0.0;
-    let steps = (std::f64::consts::PI / 4.0 / 0.5 / case.run.dt) as usize;
+    let steps = (std::f64::consts::PI / 4.0 / 0.5 / case.dt()) as usize;
     for _ in 0..steps {
         sim.step();
         let x = sim.p.x[0];

@@ -102,28 +102,22 @@ fn torque_rule_of_section_iii() {
     let case = tumbler::case::parse_case(&common_case(), "test").unwrap();
     let mat = Materials::new(&case);
     let mut p = Particles::default();
-    let a = ParticleState {
-        id: 0,
-        species: 0,
-        diameter: 1.0,
-        x: [0.0, 0.0, 0.0],
-        v: [0.0, 1.0, 0.3],
-        w: [0.0, 0.0, 0.0],
-    };
-    let b = ParticleState {
-        id: 1,
-        species: 1,
-        diameter: 1.2,
-        x: [1.05, 0.0, 0.0],
-        v: [0.0, -0.5, 0.0],
-        w: [0.2, 0.0, 0.0],
-    };
+    let a = ParticleState::new(0, 0, 1.0, [0.0; 3], [0.0, 1.0, 0.3], [0.0; 3]);
+    let b = ParticleState::new(
+        1,
+        1,
+        1.2,
+        [1.05, 0.0, 0.0],
+        [0.0, -0.5, 0.0],
+        [0.2, 0.0, 0.0],
+    );
     p.push_owned(&a, &mat);
     p.push_owned(&b, &mat);
     let mut nl = NeighborList::default();
-    nl.build(&p, &Grid::new(5.0, -5.0, 5.0, 2.0), 0.3);
+    let law = tumbler::physics::ContactLaw::new(&case);
+    nl.build(&p, &Grid::new(5.0, -5.0, 5.0, 2.0), 0.3, &law);
     assert_eq!(nl.pairs.len(), 1);
-    pair_forces(&mut p, &nl, &mat, None);
+    pair_forces(&mut p, &mut nl, &law, &mat, None, 1.0);
     let c = rapaport::pair(
         V3::from(a.x) - V3::from(b.x),
         V3::from(a.v),
@@ -132,7 +126,7 @@ fn torque_rule_of_section_iii() {
         V3::from(b.w),
         1.0,
         1.2,
-        mat.gamma_n,
+        case.model.gamma_n.unwrap(),
         mat.pair(0, 1),
     )
     .unwrap();

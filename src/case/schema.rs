@@ -5,6 +5,39 @@
 
 use serde::{Deserialize, Serialize};
 
+impl Case {
+    /// Largest nominal diameter.
+    pub fn d_max(&self) -> f64 {
+        self.species.iter().map(|s| s.diameter).fold(0.0, f64::max)
+    }
+
+    /// Smallest nominal diameter.
+    pub fn d_min(&self) -> f64 {
+        self.species
+            .iter()
+            .map(|s| s.diameter)
+            .fold(f64::MAX, f64::min)
+    }
+
+    /// The time step: `run.dt`, or `t_c / 40` for the linear spring-dashpot.
+    pub fn dt(&self) -> f64 {
+        self.run
+            .dt
+            .or_else(|| self.model.collision_time.map(|t| t / 40.0))
+            .unwrap_or(f64::NAN)
+    }
+
+    /// The Verlet skin: `run.skin`, or 0.4 of the largest diameter.
+    pub fn skin(&self) -> f64 {
+        self.run.skin.unwrap_or(0.4 * self.d_max())
+    }
+
+    /// Thickness of the axial slices: `output.slice_width`, or the smallest diameter.
+    pub fn slice_width(&self) -> f64 {
+        self.output.slice_width.unwrap_or(self.d_min())
+    }
+}
+
 /// A whole run, as read from `cases/*.toml`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -39,38 +72,148 @@ pub enum Ends {
     Capped,
 }
 
-/// The cylindrical drum: axis `z`, centred at the origin, turning about `+z`.
+/// Shape of the tumbler.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// A cylinder along `z`.
+    #[default]
+    Cylinder,
+    /// A sphere (axial slabs along `z` all the same).
+    Sphere,
+}
+
+/// Surface of an end cap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CapSurface {
+    /// With the species' cap friction.
+    #[default]
+    Frictional,
+    /// No tangential force (lateral confinement only).
+    Frictionless,
+}
+
+/// The drum: axis `z`, centred at the origin, turning about `+z`.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Drum {
-    /// Inner diameter `D` of the curved wall.
+    /// `"cylinder"` (default) or `"sphere"`.
+    #[serde(default)]
+    pub shape: Shape,
+    /// Inner diameter `D` of the curved wall (of the sphere).
     pub diameter: f64,
-    /// Length `L` along the axis (from `-L/2` to `L/2`).
-    pub length: f64,
-    /// `"periodic"` or `"capped"`.
-    pub ends: Ends,
+    /// Length `L` of a cylinder along the axis (from `-L/2` to `L/2`); a sphere has none.
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// `"periodic"` or `"capped"` (cylinders only).
+    #[serde(default)]
+    pub ends: Option<Ends>,
     /// Angular velocity about `+z` (rad per time unit; counterclockwise seen from `+z`).
     pub omega: f64,
+    /// The end cap at `z = -L/2`: `"frictional"` (default) or `"frictionless"`.
+    #[serde(default)]
+    pub cap_low: CapSurface,
+    /// The end cap at `z = +L/2`.
+    #[serde(default)]
+    pub cap_high: CapSurface,
+}
+
+impl Drum {
+    /// Axial extent: `L` for a cylinder, `D` for a sphere.
+    pub fn axial_length(&self) -> f64 {
+        match self.shape {
+            Shape::Cylinder => self.length.unwrap_or(0.0),
+            Shape::Sphere => self.diameter,
+        }
+    }
+
+    /// Whether the axial ends are periodic.
+    pub fn periodic(&self) -> bool {
+        self.shape == Shape::Cylinder && self.ends == Some(Ends::Periodic)
+    }
+
+    /// Volume inside the walls.
+    pub fn volume(&self) -> f64 {
+        let r = 0.5 * self.diameter;
+        match self.shape {
+            Shape::Cylinder => std::f64::consts::PI * r * r * self.axial_length(),
+            Shape::Sphere => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
+        }
+    }
 }
 
 /// Contact model families.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "kebab-case")]
 pub enum Family {
     /// Rapaport (2002) section III, reduced units.
     Rapaport,
+    /// Spring-dashpot models of the thesis (ch. 2), SI units.
+    SpringDashpot,
+}
+
+/// Normal force of the spring-dashpot family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Normal {
+    /// Linear spring and dashpot from the pair's collision time and restitution (eqs. 2.4-2.12).
+    #[default]
+    Linear,
+    /// Hertz spring with its non-linear damping (eqs. 2.13-2.14).
+    Hertz,
+}
+
+/// Tangential force of the spring-dashpot family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tangential {
+    /// Viscous friction capped by Coulomb, no memory (eq. 2.15).
+    #[default]
+    Viscous,
+    /// Cundall-Strack spring on the accumulated tangential displacement (eqs. 2.17-2.18).
+    History,
 }
 
 /// Contact model and global physical constants.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Model {
-    /// Contact model family (`"rapaport"`).
+    /// Contact model family (`"rapaport"` or `"spring-dashpot"`).
     pub family: Family,
     /// Gravitational acceleration along `-y`.
     pub gravity: f64,
-    /// Normal damping coefficient `gamma_n` (Rapaport eq. 2), the same for every pair and wall.
-    pub gamma_n: f64,
+    /// Rapaport: normal damping coefficient `gamma_n` (eq. 2), the same for every pair and wall.
+    #[serde(default)]
+    pub gamma_n: Option<f64>,
+    /// Spring-dashpot: `"linear"` (default) or `"hertz"`.
+    #[serde(default)]
+    pub normal: Normal,
+    /// Spring-dashpot: `"viscous"` (default, no memory) or `"history"` (Cundall-Strack).
+    #[serde(default)]
+    pub tangential: Tangential,
+    /// Spring-dashpot, linear: binary collision time `t_c` (s).
+    #[serde(default)]
+    pub collision_time: Option<f64>,
+    /// Spring-dashpot: normal restitution coefficient `e_n` (linear), in (0, 1].
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Spring-dashpot, history: `k_s / k_n` (default 2/7).
+    #[serde(default = "default_stiffness_ratio")]
+    pub stiffness_ratio: f64,
+    /// Spring-dashpot, viscous: tangential coefficient `gamma_s` (kg/s). The thesis gives no
+    /// value; by default each pair uses its normal dashpot coefficient `2 gamma_n m_eff`.
+    #[serde(default)]
+    pub gamma_s: Option<f64>,
+    /// Spring-dashpot, Hertz: Young's modulus `Y` (Pa).
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    /// Spring-dashpot, Hertz: Poisson ratio `nu`.
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
+    /// Spring-dashpot, Hertz: damping coefficient `gamma_n^n` of eq. 2.14 (kg / (m^1/2 s)).
+    #[serde(default)]
+    pub hertz_damping: Option<f64>,
     /// The larger static friction coefficient of each pair of `mu` values (Rapaport: 0.5);
     /// the others follow the ratio of the corresponding `gamma_s`.
     #[serde(default = "default_mu_max")]
@@ -78,9 +221,14 @@ pub struct Model {
     /// Diameter associated with the walls (Rapaport: 1).
     #[serde(default = "default_wall_diameter")]
     pub wall_diameter: f64,
-    /// Material density; particle mass is `density * pi/6 * d^3` (Rapaport: `m = d^3`, i.e. `6/pi`).
+    /// Material density; particle mass is `density * pi/6 * d^3` (Rapaport: `m = d^3`, i.e.
+    /// `6/pi`; glass: 2500 kg/m^3).
     #[serde(default = "default_density")]
     pub density: f64,
+}
+
+fn default_stiffness_ratio() -> f64 {
+    2.0 / 7.0
 }
 
 fn default_mu_max() -> f64 {
@@ -104,16 +252,30 @@ pub struct Species {
     /// Diameters are uniform in `[d - spread, d]` (Rapaport: 0.2).
     #[serde(default)]
     pub diameter_spread: f64,
-    /// Sliding friction coefficient against the same species, `gamma_s^{cc}`.
-    pub gamma_s: f64,
-    /// Sliding friction coefficient against the walls, `gamma_s^{cw}`.
-    pub gamma_s_wall: f64,
-    /// Static friction against the same species; default from the `mu` ratio rule.
+    /// Diameters are normal with mean `d` and this standard deviation relative to `d`
+    /// (thesis: 0.1), cut at three standard deviations. Exclusive with `diameter_spread`.
+    #[serde(default)]
+    pub diameter_sd: f64,
+    /// Rapaport: sliding friction coefficient against the same species, `gamma_s^{cc}`.
+    #[serde(default)]
+    pub gamma_s: Option<f64>,
+    /// Rapaport: sliding friction coefficient against the walls, `gamma_s^{cw}`.
+    #[serde(default)]
+    pub gamma_s_wall: Option<f64>,
+    /// Static friction against the same species (Rapaport: default from the `mu` ratio rule;
+    /// spring-dashpot: required). A mixed pair takes the smaller of the two.
     #[serde(default)]
     pub mu: Option<f64>,
-    /// Static friction against the walls; default from the `mu` ratio rule.
+    /// Static friction against the curved wall (Rapaport: from the ratio rule;
+    /// spring-dashpot: default `mu`).
     #[serde(default)]
     pub mu_wall: Option<f64>,
+    /// Static friction against the end caps (default `mu_wall`).
+    #[serde(default)]
+    pub mu_cap: Option<f64>,
+    /// Share of the particle volume of a poured fill (pour only; shares must add up to 1).
+    #[serde(default)]
+    pub volume_fraction: Option<f64>,
 }
 
 /// How species are laid out in the initial state.
@@ -132,17 +294,42 @@ pub enum Arrangement {
 pub enum InitKind {
     /// fcc lattice of number density `density` filling the drum (Rapaport IV).
     Lattice,
+    /// Random points grown to their diameters, settled in the still drum and cut to the fill
+    /// level (thesis 2.2.2).
+    Pour,
+    /// An explicit list of particles (`[[init.particle]]` tables or an HDF5 `file`).
+    Particles,
+}
+
+/// One particle given explicitly in the case.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitParticle {
+    /// Species index.
+    pub species: u8,
+    /// Diameter.
+    pub diameter: f64,
+    /// Position.
+    pub position: [f64; 3],
+    /// Velocity.
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Angular velocity.
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
 }
 
 /// The initial state.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Init {
-    /// Method (`"lattice"`).
+    /// Method: `"lattice"`, `"pour"` or `"particles"`.
     pub kind: InitKind,
-    /// Number density `rho` of the fcc lattice (for the smallest species' bands).
-    pub density: f64,
-    /// `"mixed"` or `"segregated"`.
+    /// Lattice: number density `rho` of the fcc lattice (for the smallest species' bands).
+    #[serde(default)]
+    pub density: Option<f64>,
+    /// Lattice: `"mixed"` (default) or `"segregated"`.
+    #[serde(default = "default_arrangement")]
     pub arrangement: Arrangement,
     /// Number of bands of a segregated start, alternating from species 0 at `z = -L/2`.
     #[serde(default = "default_bands")]
@@ -153,6 +340,25 @@ pub struct Init {
     /// Minimum distance of lattice sites from the curved wall and the end caps.
     #[serde(default = "default_wall_gap")]
     pub wall_gap: f64,
+    /// Pour: fill level, the fraction of the drum volume below the flat cut surface.
+    #[serde(default)]
+    pub fill: Option<f64>,
+    /// Pour: time to grow the points to their diameters, without gravity (default 50 `t_c`).
+    #[serde(default)]
+    pub grow_time: Option<f64>,
+    /// Pour: time to settle under gravity before the cut (default `10 sqrt(D/g)`).
+    #[serde(default)]
+    pub settle_time: Option<f64>,
+    /// Particles: HDF5 file with the `/particles` layout of a run's output.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Particles: the particles themselves (`[[init.particle]]`).
+    #[serde(default)]
+    pub particle: Vec<ExplicitParticle>,
+}
+
+fn default_arrangement() -> Arrangement {
+    Arrangement::Mixed
 }
 
 fn default_bands() -> usize {
@@ -171,15 +377,13 @@ fn default_wall_gap() -> f64 {
 pub struct Run {
     /// Length of the run in drum rotations.
     pub rotations: f64,
-    /// Time step.
-    pub dt: f64,
-    /// Verlet skin added to the interaction range in the neighbour lists.
-    #[serde(default = "default_skin")]
-    pub skin: f64,
-}
-
-fn default_skin() -> f64 {
-    0.5
+    /// Time step (spring-dashpot, linear: default `t_c / 40`).
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Verlet skin added to the interaction range in the neighbour lists (default 0.4 of the
+    /// largest diameter).
+    #[serde(default)]
+    pub skin: Option<f64>,
 }
 
 /// Outputs.
@@ -189,9 +393,9 @@ pub struct Output {
     /// Interval between samples of the axial profiles, in rotations.
     #[serde(default = "default_sample_every")]
     pub sample_every: f64,
-    /// Thickness of the axial slices of the profiles.
-    #[serde(default = "default_slice_width")]
-    pub slice_width: f64,
+    /// Thickness of the axial slices of the profiles (default: the smallest nominal diameter).
+    #[serde(default)]
+    pub slice_width: Option<f64>,
     /// Interval between progress messages, in rotations.
     #[serde(default = "default_progress_every")]
     pub progress_every: f64,
@@ -199,9 +403,6 @@ pub struct Output {
 
 fn default_sample_every() -> f64 {
     0.5
-}
-fn default_slice_width() -> f64 {
-    1.0
 }
 fn default_progress_every() -> f64 {
     1.0
@@ -211,7 +412,7 @@ impl Default for Output {
     fn default() -> Self {
         Output {
             sample_every: default_sample_every(),
-            slice_width: default_slice_width(),
+            slice_width: None,
             progress_every: default_progress_every(),
         }
     }

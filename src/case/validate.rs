@@ -2,32 +2,72 @@
 //! holds it and the reason, all of them at once.
 
 use super::load::CaseError;
-use super::schema::{Arrangement, Case, Ends};
-use crate::physics::rapaport;
+use super::schema::{Arrangement, Case, Ends, Family, InitKind, Normal, Shape, Tangential};
+use crate::physics::law;
+
+struct Checker {
+    errs: Vec<CaseError>,
+}
+
+impl Checker {
+    fn bad(&mut self, key: &str, why: String) {
+        self.errs.push(CaseError::new(key, why));
+    }
+    fn positive(&mut self, key: &str, x: f64) {
+        if !(x.is_finite() && x > 0.0) {
+            self.bad(key, format!("must be positive, got {x}"));
+        }
+    }
+    fn non_negative(&mut self, key: &str, x: f64) {
+        if !(x.is_finite() && x >= 0.0) {
+            self.bad(key, format!("must be zero or positive, got {x}"));
+        }
+    }
+    fn required(&mut self, key: &str, x: Option<f64>, why: &str) -> f64 {
+        match x {
+            Some(v) => v,
+            None => {
+                self.bad(key, format!("is required {why}"));
+                f64::NAN
+            }
+        }
+    }
+    fn forbidden<T>(&mut self, key: &str, x: &Option<T>, why: &str) {
+        if x.is_some() {
+            self.bad(key, format!("does not apply {why}"));
+        }
+    }
+}
 
 /// Check every value of `case`; return all refusals.
 pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
-    let mut errs = Vec::new();
-    let mut bad = |key: &str, why: String| errs.push(CaseError::new(key, why));
-
-    let positive = |x: f64| x.is_finite() && x > 0.0;
-    let non_negative = |x: f64| x.is_finite() && x >= 0.0;
-
+    let mut c = Checker { errs: Vec::new() };
     let d = &case.drum;
-    if !positive(d.diameter) {
-        bad(
-            "drum.diameter",
-            format!("must be a positive length, got {}", d.diameter),
-        );
-    }
-    if !positive(d.length) {
-        bad(
-            "drum.length",
-            format!("must be a positive length, got {}", d.length),
-        );
+    c.positive("drum.diameter", d.diameter);
+    match d.shape {
+        Shape::Cylinder => {
+            let l = c.required("drum.length", d.length, "for a cylinder");
+            if !l.is_nan() {
+                c.positive("drum.length", l);
+            }
+            if d.ends.is_none() {
+                c.bad(
+                    "drum.ends",
+                    "is required for a cylinder: \"periodic\" or \"capped\"".into(),
+                );
+            }
+        }
+        Shape::Sphere => {
+            c.forbidden(
+                "drum.length",
+                &d.length,
+                "to a sphere (its axial extent is its diameter)",
+            );
+            c.forbidden("drum.ends", &d.ends, "to a sphere");
+        }
     }
     if !d.omega.is_finite() || d.omega == 0.0 {
-        bad(
+        c.bad(
             "drum.omega",
             format!(
                 "must be non-zero (the run length is counted in rotations), got {}",
@@ -37,42 +77,106 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
     }
 
     let m = &case.model;
-    if !non_negative(m.gravity) {
-        bad(
-            "model.gravity",
-            format!("must be zero or positive, got {}", m.gravity),
-        );
-    }
-    if !non_negative(m.gamma_n) {
-        bad(
-            "model.gamma_n",
-            format!("must be zero or positive, got {}", m.gamma_n),
-        );
-    }
-    if !non_negative(m.mu_max) {
-        bad(
-            "model.mu_max",
-            format!("must be zero or positive, got {}", m.mu_max),
-        );
-    }
-    if !positive(m.wall_diameter) {
-        bad(
-            "model.wall_diameter",
-            format!("must be positive, got {}", m.wall_diameter),
-        );
-    }
-    if !positive(m.density) {
-        bad(
-            "model.density",
-            format!("must be positive, got {}", m.density),
-        );
+    c.non_negative("model.gravity", m.gravity);
+    c.positive("model.density", m.density);
+    match m.family {
+        Family::Rapaport => {
+            let g = c.required("model.gamma_n", m.gamma_n, "by the rapaport family");
+            if !g.is_nan() {
+                c.non_negative("model.gamma_n", g);
+            }
+            c.non_negative("model.mu_max", m.mu_max);
+            c.positive("model.wall_diameter", m.wall_diameter);
+            let why = "to the rapaport family";
+            c.forbidden("model.collision_time", &m.collision_time, why);
+            c.forbidden("model.restitution", &m.restitution, why);
+            c.forbidden("model.gamma_s", &m.gamma_s, why);
+            c.forbidden("model.youngs_modulus", &m.youngs_modulus, why);
+            if m.normal != Normal::Linear || m.tangential != Tangential::Viscous {
+                c.bad(
+                    "model.normal",
+                    "normal/tangential choose spring-dashpot laws; the rapaport family has its own"
+                        .into(),
+                );
+            }
+        }
+        Family::SpringDashpot => {
+            c.forbidden(
+                "model.gamma_n",
+                &m.gamma_n,
+                "to the spring-dashpot family (use restitution and collision_time)",
+            );
+            let e = c.required(
+                "model.restitution",
+                m.restitution,
+                "by the spring-dashpot family",
+            );
+            if !e.is_nan() && !(e > 0.0 && e <= 1.0) {
+                c.bad("model.restitution", format!("must be in (0, 1], got {e}"));
+            }
+            match m.normal {
+                Normal::Linear => {
+                    let t = c.required(
+                        "model.collision_time",
+                        m.collision_time,
+                        "by the linear normal force",
+                    );
+                    if !t.is_nan() {
+                        c.positive("model.collision_time", t);
+                    }
+                }
+                Normal::Hertz => {
+                    let y = c.required(
+                        "model.youngs_modulus",
+                        m.youngs_modulus,
+                        "by the Hertz normal force",
+                    );
+                    let nu = c.required(
+                        "model.poisson_ratio",
+                        m.poisson_ratio,
+                        "by the Hertz normal force",
+                    );
+                    let g = c.required(
+                        "model.hertz_damping",
+                        m.hertz_damping,
+                        "by the Hertz normal force",
+                    );
+                    if !y.is_nan() {
+                        c.positive("model.youngs_modulus", y);
+                    }
+                    if !nu.is_nan() && !(-1.0 < nu && nu < 0.5) {
+                        c.bad(
+                            "model.poisson_ratio",
+                            format!("must be in (-1, 0.5), got {nu}"),
+                        );
+                    }
+                    if !g.is_nan() {
+                        c.non_negative("model.hertz_damping", g);
+                    }
+                    if case.run.dt.is_none() {
+                        c.bad("run.dt", "is required with the Hertz normal force (its contact time depends on the impact speed)".into());
+                    }
+                }
+            }
+            if m.tangential == Tangential::History {
+                c.positive("model.stiffness_ratio", m.stiffness_ratio);
+                c.forbidden(
+                    "model.gamma_s",
+                    &m.gamma_s,
+                    "to the history tangential force",
+                );
+            }
+            if let Some(g) = m.gamma_s {
+                c.non_negative("model.gamma_s", g);
+            }
+        }
     }
 
     if case.species.is_empty() {
-        bad("species", "at least one [[species]] table is needed".into());
+        c.bad("species", "at least one [[species]] table is needed".into());
     }
     if case.species.len() > 255 {
-        bad(
+        c.bad(
             "species",
             format!("at most 255 species, got {}", case.species.len()),
         );
@@ -80,18 +184,18 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
     for (k, s) in case.species.iter().enumerate() {
         let key = |f: &str| format!("species.{k}.{f}");
         if s.name.trim().is_empty() {
-            bad(&key("name"), "must not be empty".into());
+            c.bad(&key("name"), "must not be empty".into());
         }
         if case.species[..k].iter().any(|o| o.name == s.name) {
-            bad(&key("name"), format!("`{}` names two species", s.name));
+            c.bad(&key("name"), format!("`{}` names two species", s.name));
         }
-        if !positive(s.diameter) {
-            bad(
+        if !(s.diameter.is_finite() && s.diameter > 0.0) {
+            c.bad(
                 &key("diameter"),
                 format!("must be a positive length, got {}", s.diameter),
             );
-        } else if positive(d.diameter) && s.diameter >= d.diameter {
-            bad(
+        } else if d.diameter > 0.0 && s.diameter >= d.diameter {
+            c.bad(
                 &key("diameter"),
                 format!(
                     "a particle of diameter {} does not fit in a drum of diameter {}",
@@ -99,8 +203,11 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 ),
             );
         }
-        if !non_negative(s.diameter_spread) || s.diameter_spread >= s.diameter {
-            bad(
+        if !(s.diameter_spread.is_finite()
+            && s.diameter_spread >= 0.0
+            && s.diameter_spread < s.diameter)
+        {
+            c.bad(
                 &key("diameter_spread"),
                 format!(
                     "must be in [0, diameter) so that diameters stay positive, got {}",
@@ -108,165 +215,218 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 ),
             );
         }
-        if !non_negative(s.gamma_s) {
-            bad(
-                &key("gamma_s"),
-                format!("must be zero or positive, got {}", s.gamma_s),
+        if !(s.diameter_sd.is_finite() && (0.0..0.3).contains(&s.diameter_sd)) {
+            c.bad(
+                &key("diameter_sd"),
+                format!("must be in [0, 0.3) (relative), got {}", s.diameter_sd),
             );
         }
-        if !non_negative(s.gamma_s_wall) {
-            bad(
-                &key("gamma_s_wall"),
-                format!("must be zero or positive, got {}", s.gamma_s_wall),
+        if s.diameter_sd > 0.0 && s.diameter_spread > 0.0 {
+            c.bad(
+                &key("diameter_sd"),
+                "choose either diameter_sd (normal) or diameter_spread (uniform)".into(),
             );
         }
-        for (f, v) in [("mu", s.mu), ("mu_wall", s.mu_wall)] {
-            if let Some(v) = v {
-                if !non_negative(v) {
-                    bad(&key(f), format!("must be zero or positive, got {v}"));
+        match m.family {
+            Family::Rapaport => {
+                for (f, v) in [("gamma_s", s.gamma_s), ("gamma_s_wall", s.gamma_s_wall)] {
+                    let v = c.required(&key(f), v, "by the rapaport family");
+                    if !v.is_nan() {
+                        c.non_negative(&key(f), v);
+                    }
                 }
+            }
+            Family::SpringDashpot => {
+                let mu = c.required(&key("mu"), s.mu, "by the spring-dashpot family");
+                if !mu.is_nan() {
+                    c.non_negative(&key("mu"), mu);
+                }
+                let why = "to the spring-dashpot family (see model.gamma_s)";
+                c.forbidden(&key("gamma_s"), &s.gamma_s, why);
+                c.forbidden(&key("gamma_s_wall"), &s.gamma_s_wall, why);
+            }
+        }
+        for (f, v) in [("mu", s.mu), ("mu_wall", s.mu_wall), ("mu_cap", s.mu_cap)] {
+            if let Some(v) = v {
+                c.non_negative(&key(f), v);
+            }
+        }
+        if let Some(v) = s.volume_fraction {
+            if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
+                c.bad(
+                    &key("volume_fraction"),
+                    format!("must be in [0, 1], got {v}"),
+                );
             }
         }
     }
 
     let i = &case.init;
-    if !positive(i.density) {
-        bad(
-            "init.density",
-            format!("must be a positive number density, got {}", i.density),
-        );
-    }
-    if i.arrangement == Arrangement::Segregated && i.bands < 2 {
-        bad(
-            "init.bands",
-            format!("a segregated start needs at least 2 bands, got {}", i.bands),
-        );
-    }
-    if !non_negative(i.speed) {
-        bad(
-            "init.speed",
-            format!("must be zero or positive, got {}", i.speed),
-        );
-    }
-    if !non_negative(i.wall_gap) || (positive(d.diameter) && i.wall_gap >= d.diameter / 2.0) {
-        bad(
-            "init.wall_gap",
-            format!(
-                "must be in [0, D/2) so that the lattice has room, got {}",
-                i.wall_gap
-            ),
-        );
+    match i.kind {
+        InitKind::Lattice => {
+            let rho = c.required("init.density", i.density, "by the lattice fill");
+            if !rho.is_nan() {
+                c.positive("init.density", rho);
+            }
+            if i.arrangement == Arrangement::Segregated && i.bands < 2 {
+                c.bad(
+                    "init.bands",
+                    format!("a segregated start needs at least 2 bands, got {}", i.bands),
+                );
+            }
+            c.non_negative("init.speed", i.speed);
+            if !(i.wall_gap.is_finite() && i.wall_gap >= 0.0 && i.wall_gap < 0.5 * d.diameter) {
+                c.bad(
+                    "init.wall_gap",
+                    format!(
+                        "must be in [0, D/2) so that the lattice has room, got {}",
+                        i.wall_gap
+                    ),
+                );
+            }
+            if d.shape == Shape::Sphere {
+                c.bad(
+                    "init.kind",
+                    "the lattice fill is for cylinders; use \"pour\" or \"particles\" in a sphere"
+                        .into(),
+                );
+            }
+        }
+        InitKind::Pour => {
+            let f = c.required("init.fill", i.fill, "by the pour fill");
+            if !f.is_nan() && !(f > 0.0 && f < 1.0) {
+                c.bad(
+                    "init.fill",
+                    format!("must be in (0, 1) (a fraction of the drum volume), got {f}"),
+                );
+            }
+            for (f, v) in [
+                ("init.grow_time", i.grow_time),
+                ("init.settle_time", i.settle_time),
+            ] {
+                if let Some(v) = v {
+                    c.positive(f, v);
+                }
+            }
+            let total: f64 = case
+                .species
+                .iter()
+                .map(|s| s.volume_fraction.unwrap_or(f64::NAN))
+                .sum();
+            if case.species.len() == 1 && case.species[0].volume_fraction.is_none() {
+                // a single species takes the whole volume
+            } else if !(total - 1.0).abs().lt(&1e-9) {
+                c.bad("species.N.volume_fraction", format!("the pour needs each species' volume_fraction, adding up to 1 (got {total})"));
+            }
+        }
+        InitKind::Particles => {
+            if i.file.is_some() == !i.particle.is_empty() {
+                c.bad(
+                    "init.file",
+                    "give either init.file or [[init.particle]] tables, not both or neither".into(),
+                );
+            }
+            for (k, p) in i.particle.iter().enumerate() {
+                if p.species as usize >= case.species.len() {
+                    c.bad(
+                        &format!("init.particle.{k}.species"),
+                        format!("there is no species {}", p.species),
+                    );
+                }
+                if !(p.diameter.is_finite() && p.diameter > 0.0) {
+                    c.bad(
+                        &format!("init.particle.{k}.diameter"),
+                        format!("must be positive, got {}", p.diameter),
+                    );
+                }
+            }
+        }
     }
 
-    let r = &case.run;
-    if !positive(r.rotations) {
-        bad(
-            "run.rotations",
-            format!("must be positive, got {}", r.rotations),
-        );
-    }
-    if !positive(r.dt) {
-        bad(
+    if let Some(dt) = case.run.dt {
+        c.positive("run.dt", dt);
+    } else if !(m.family == Family::SpringDashpot && m.normal == Normal::Linear) {
+        c.bad(
             "run.dt",
-            format!("must be a positive time step, got {}", r.dt),
+            "is required (only the linear spring-dashpot has a default, t_c/40)".into(),
         );
     }
-    if !positive(r.skin) {
-        bad(
-            "run.skin",
-            format!("must be a positive length, got {}", r.skin),
-        );
+    c.positive("run.rotations", case.run.rotations);
+    if let Some(s) = case.run.skin {
+        c.positive("run.skin", s);
     }
 
     let o = &case.output;
-    if !positive(o.sample_every) {
-        bad(
-            "output.sample_every",
-            format!("must be positive (rotations), got {}", o.sample_every),
-        );
-    }
-    if !positive(o.slice_width) || (positive(d.length) && o.slice_width > d.length) {
-        bad(
-            "output.slice_width",
-            format!(
-                "must be positive and at most the drum length, got {}",
-                o.slice_width
-            ),
-        );
-    }
-    if !positive(o.progress_every) {
-        bad(
-            "output.progress_every",
-            format!("must be positive (rotations), got {}", o.progress_every),
-        );
+    c.positive("output.sample_every", o.sample_every);
+    c.positive("output.progress_every", o.progress_every);
+    if let Some(w) = o.slice_width {
+        if !(w.is_finite() && w > 0.0 && w <= d.axial_length()) {
+            c.bad(
+                "output.slice_width",
+                format!("must be positive and at most the drum length, got {w}"),
+            );
+        }
     }
 
-    // Checks that combine several keys; only meaningful once the single values are sane.
-    if errs.is_empty() {
-        cross_checks(case, &mut errs);
+    if c.errs.is_empty() {
+        cross_checks(case, &mut c);
     }
-    if errs.is_empty() {
+    if c.errs.is_empty() {
         Ok(())
     } else {
-        Err(errs)
+        Err(c.errs)
     }
 }
 
-fn cross_checks(case: &Case, errs: &mut Vec<CaseError>) {
-    let mut bad = |key: &str, why: String| errs.push(CaseError::new(key, why));
-    let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-    let d_min_nominal = case
-        .species
-        .iter()
-        .map(|s| s.diameter)
-        .fold(f64::MAX, f64::min);
-
-    // fcc nearest-neighbour distance must keep the lattice free of overlaps.
-    let nn = rapaport::fcc_spacing(case.init.density) / 2f64.sqrt();
-    let needed = match case.init.arrangement {
-        Arrangement::Mixed => d_max,
-        Arrangement::Segregated => d_min_nominal,
-    };
-    if nn < needed {
-        bad(
-            "init.density",
-            format!(
-                "the fcc lattice at density {} has neighbours {:.3} apart, less than the diameter {} \
-                 (particles would overlap); lower the density",
-                case.init.density, nn, needed
-            ),
-        );
+fn cross_checks(case: &Case, c: &mut Checker) {
+    let d_max = case.d_max();
+    if case.init.kind == InitKind::Lattice {
+        let rho = case.init.density.unwrap_or(1.0);
+        let nn = crate::init::fcc_spacing(rho) / 2f64.sqrt();
+        let needed = match case.init.arrangement {
+            Arrangement::Mixed => d_max,
+            Arrangement::Segregated => case.d_min(),
+        };
+        if nn < needed {
+            c.bad(
+                "init.density",
+                format!(
+                    "the fcc lattice at density {rho} has neighbours {nn:.3} apart, less than the diameter \
+                     {needed} (particles would overlap); lower the density"
+                ),
+            );
+        }
     }
 
-    // Time step against the stiffest contact and the strongest damping.
-    let limits = rapaport::step_limits(case);
-    if case.run.dt > limits.dt_max {
-        bad(
+    let dt = case.dt();
+    let limits = law::step_limits(case);
+    if dt > limits.dt_max {
+        c.bad(
             "run.dt",
             format!(
-                "{} is too large for the contact stiffness: the shortest contact period is {:.4}, \
-                 so dt must be at most {:.4} (period / {})",
-                case.run.dt,
-                limits.period_min,
+                "{dt} is too large for the contact stiffness: the shortest contact time is {:.4e}, so dt \
+                 must be at most {:.4e} (contact time / {})",
+                limits.contact_time_min,
                 limits.dt_max,
-                rapaport::STEPS_PER_PERIOD_MIN
+                law::STEPS_PER_CONTACT_MIN
             ),
         );
     }
-    if case.run.dt * limits.damping_rate_max > 2.0 {
-        bad(
+    if dt * limits.damping_rate_max > 2.0 {
+        c.bad(
             "run.dt",
             format!(
-                "{} is too large for the damping: dt times the largest damping rate ({:.1}) must be \
-                 below 2 for a stable explicit step",
-                case.run.dt, limits.damping_rate_max
+                "{dt} is too large for the damping: dt times the largest damping rate ({:.1}) must be below \
+                 2 for a stable explicit step",
+                limits.damping_rate_max
             ),
         );
     }
 
-    let reach = rapaport::cutoff(d_max) + case.run.skin;
-    if case.drum.ends == Ends::Periodic && case.drum.length <= 2.0 * reach {
-        bad(
+    let reach = law::reach(case);
+    let l = case.drum.axial_length();
+    if case.drum.periodic() && l <= 2.0 * reach {
+        c.bad(
             "drum.length",
             format!(
                 "a periodic drum must be longer than twice the interaction range + skin ({:.3})",
@@ -274,13 +434,13 @@ fn cross_checks(case: &Case, errs: &mut Vec<CaseError>) {
             ),
         );
     }
-    if case.drum.ends == Ends::Capped && case.drum.length <= 2.0 * case.init.wall_gap {
-        bad(
+    if case.drum.ends == Some(Ends::Capped)
+        && case.init.kind == InitKind::Lattice
+        && l <= 2.0 * case.init.wall_gap
+    {
+        c.bad(
             "drum.length",
-            format!(
-                "a capped drum of length {} leaves no room between the end gaps (init.wall_gap = {})",
-                case.drum.length, case.init.wall_gap
-            ),
+            format!("a capped drum of length {l} leaves no room between the end gaps (init.wall_gap = {})", case.init.wall_gap),
         );
     }
 }

@@ -26,6 +26,8 @@ pub trait Comm {
     ) -> (Vec<f64>, Vec<f64>);
     /// Maximum of `x` over all ranks.
     fn max_f64(&self, x: f64) -> f64;
+    /// Element-wise maximum of `v` over all ranks, on every rank.
+    fn max_f64_all(&self, v: &mut [f64]);
     /// Sum of `x` over all ranks, on every rank.
     fn sum_u64(&self, x: u64) -> u64;
     /// Element-wise sum of `v` over all ranks, delivered to rank 0 (others get `v` unchanged).

@@ -88,6 +88,13 @@ impl Comm for MpiComm {
         y
     }
 
+    fn max_f64_all(&self, v: &mut [f64]) {
+        let mut out = vec![0.0; v.len()];
+        self.world
+            .all_reduce_into(&v[..], &mut out[..], SystemOperation::max());
+        v.copy_from_slice(&out);
+    }
+
     fn sum_u64(&self, x: u64) -> u64 {
         let mut y = 0u64;
         self.world

@@ -36,6 +36,7 @@ impl Comm for SerialComm {
     fn max_f64(&self, x: f64) -> f64 {
         x
     }
+    fn max_f64_all(&self, _v: &mut [f64]) {}
     fn sum_u64(&self, x: u64) -> u64 {
         x
     }

@@ -3,21 +3,36 @@
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
-use crate::physics::{rapaport, DrumWalls, Materials, V3};
+use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
 /// Counts from one force pass.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ForceStats {
     /// Pairs in contact.
     pub contacts: usize,
+    /// Largest overlap of a pair relative to the smaller diameter (spring-dashpot laws).
+    pub max_overlap: f64,
 }
 
-/// Zero the forces and torques of all local particles and add the pair contacts.
+#[inline]
+fn body(p: &Particles, i: usize, scale: f64) -> Body {
+    Body {
+        v: V3::from(p.v[i]),
+        w: V3::from(p.w[i]),
+        d: p.diameter[i] * scale,
+        inv_mass: p.inv_mass[i],
+    }
+}
+
+/// Zero the forces and torques of all local particles and add the pair contacts; `scale`
+/// multiplies every diameter (1 except while a pour fill grows its particles).
 pub fn pair_forces(
     p: &mut Particles,
-    nl: &NeighborList,
+    nl: &mut NeighborList,
+    law: &ContactLaw,
     mat: &Materials,
     period: Option<f64>,
+    scale: f64,
 ) -> ForceStats {
     for f in p.f.iter_mut() {
         *f = [0.0; 3];
@@ -25,8 +40,8 @@ pub fn pair_forces(
     for t in p.t.iter_mut() {
         *t = [0.0; 3];
     }
-    let mut contacts = 0;
-    for &(a, b) in &nl.pairs {
+    let mut stats = ForceStats::default();
+    for (&(a, b), hist) in nl.pairs.iter().zip(nl.hist.iter_mut()) {
         let (a, b) = (a as usize, b as usize);
         let xa = p.x[a];
         let xb = p.x[b];
@@ -35,23 +50,17 @@ pub fn pair_forces(
             dz = min_image(dz, l);
         }
         let r = V3::new(xa[0] - xb[0], xa[1] - xb[1], dz);
-        let (da, db) = (p.diameter[a], p.diameter[b]);
-        let Some(c) = rapaport::pair(
-            r,
-            V3::from(p.v[a]),
-            V3::from(p.v[b]),
-            V3::from(p.w[a]),
-            V3::from(p.w[b]),
-            da,
-            db,
-            mat.gamma_n,
-            mat.pair(p.species[a], p.species[b]),
-        ) else {
+        let (ba, bb) = (body(p, a, scale), body(p, b, scale));
+        let Some(c) = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist) else {
             continue;
         };
-        contacts += 1;
-        let ta = c.n_cross_fs * (0.5 * da);
-        let tb = c.n_cross_fs * (0.5 * db);
+        stats.contacts += 1;
+        if let ContactLaw::SpringDashpot(_) = law {
+            let overlap = (0.5 * (ba.d + bb.d) - r.norm()) / ba.d.min(bb.d);
+            stats.max_overlap = stats.max_overlap.max(overlap);
+        }
+        let ta = c.n_cross_fs * (0.5 * ba.d);
+        let tb = c.n_cross_fs * (0.5 * bb.d);
         for k in 0..3 {
             p.f[a][k] += c.force[k];
             p.f[b][k] -= c.force[k];
@@ -59,18 +68,27 @@ pub fn pair_forces(
             p.t[b][k] -= tb[k];
         }
     }
-    ForceStats { contacts }
+    stats
 }
 
 /// Add the wall forces and gravity (along `-y`) to the owned particles.
-pub fn wall_and_body_forces(p: &mut Particles, walls: &DrumWalls, mat: &Materials, gravity: f64) {
+pub fn wall_and_body_forces(
+    p: &mut Particles,
+    walls: &DrumWalls,
+    law: &ContactLaw,
+    mat: &Materials,
+    gravity: f64,
+    scale: f64,
+) {
     for i in 0..p.n_owned {
+        let b = body(p, i, scale);
         let load = walls.load(
+            law,
+            mat,
+            p.species[i],
             V3::from(p.x[i]),
-            V3::from(p.v[i]),
-            V3::from(p.w[i]),
-            p.diameter[i],
-            mat.wall(p.species[i]),
+            &b,
+            &mut p.wall_hist[i],
         );
         for k in 0..3 {
             p.f[i][k] += load.force[k];

@@ -6,6 +6,7 @@
 //! minimum image of the raw coordinates, so a pair is computed with the same arithmetic
 //! whichever of its particles is the ghost.
 
+use super::neighbor::SavedHistory;
 use super::slabs::Slabs;
 use crate::comm::Comm;
 use crate::particles::{unpack, Particles, PACKED_WORDS, UPDATE_WORDS};
@@ -22,9 +23,28 @@ pub struct Halo {
     pub words_sent: usize,
 }
 
-/// Send every owned particle that left this rank's slab to the neighbour that now owns it.
-/// Ghosts must have been cleared. Returns the number of particles sent.
-pub fn migrate(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Materials) -> usize {
+/// Words of one saved contact history in a message: both ids and the vector.
+const HISTORY_WORDS: usize = 5;
+
+/// What a migration moved.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Migrated {
+    /// Particles sent to neighbours.
+    pub particles: usize,
+    /// Contact histories sent with them.
+    pub histories: usize,
+}
+
+/// Send every owned particle that left this rank's slab to the neighbour that now owns it,
+/// with the histories of its contacts (`saved`, which receives the neighbours' in turn and
+/// stays sorted). Ghosts must have been cleared.
+pub fn migrate(
+    p: &mut Particles,
+    slabs: &Slabs,
+    comm: &dyn Comm,
+    mat: &Materials,
+    saved: &mut SavedHistory,
+) -> Migrated {
     debug_assert_eq!(p.n_owned, p.len());
     let me = comm.rank();
     let (down, up) = (slabs.down(me), slabs.up(me));
@@ -50,17 +70,60 @@ pub fn migrate(p: &mut Particles, slabs: &Slabs, comm: &dyn Comm, mat: &Material
     let sent = leave.iter().filter(|&&l| l).count();
     if down.is_none() && up.is_none() {
         assert_eq!(sent, 0, "a particle left the only slab");
-        return 0;
+        return Migrated::default();
+    }
+    // Each message: particle count, particles, then the histories of their contacts.
+    let mut out_down = vec![(to_down.len() / PACKED_WORDS) as f64];
+    out_down.extend_from_slice(&to_down);
+    let mut out_up = vec![(to_up.len() / PACKED_WORDS) as f64];
+    out_up.extend_from_slice(&to_up);
+    let mut histories = 0;
+    if !saved.is_empty() && sent > 0 {
+        let ids = |buf: &[f64]| -> Vec<u64> {
+            let mut v: Vec<u64> = buf
+                .chunks_exact(PACKED_WORDS)
+                .map(|r| r[0] as u64)
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        let (ids_down, ids_up) = (ids(&to_down), ids(&to_up));
+        let has = |v: &[u64], id: u64| v.binary_search(&id).is_ok();
+        for &(a, b, h) in saved.iter() {
+            for (ids, out) in [(&ids_down, &mut out_down), (&ids_up, &mut out_up)] {
+                if has(ids, a) || has(ids, b) {
+                    out.extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+                    histories += 1;
+                }
+            }
+        }
     }
     p.remove_owned(&leave);
-    let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
-    for rec in from_down
-        .chunks_exact(PACKED_WORDS)
-        .chain(from_up.chunks_exact(PACKED_WORDS))
-    {
-        p.push_owned(&unpack(rec), mat);
+    let (from_down, from_up) = comm.exchange(down, &out_down, up, &out_up);
+    let mut received_history = false;
+    for msg in [&from_down, &from_up] {
+        if msg.is_empty() {
+            continue;
+        }
+        let n = msg[0] as usize;
+        let (parts, hist) = msg[1..].split_at(n * PACKED_WORDS);
+        for rec in parts.chunks_exact(PACKED_WORDS) {
+            p.push_owned(&unpack(rec), mat);
+        }
+        for rec in hist.chunks_exact(HISTORY_WORDS) {
+            saved.push((rec[0] as u64, rec[1] as u64, [rec[2], rec[3], rec[4]]));
+            received_history = true;
+        }
     }
-    sent
+    if received_history {
+        // A contact both sides already evaluated arrives as an identical copy: keep one.
+        saved.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        saved.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+    }
+    Migrated {
+        particles: sent,
+        histories,
+    }
 }
 
 /// Build the ghost halo: each rank sends the owned particles within `reach` of each face to

@@ -4,16 +4,25 @@
 //! list is sorted by `(id[a], id[b])`. Accumulating pair forces in list order then adds every
 //! particle's contributions in increasing order of its partners' ids, whatever the slab layout:
 //! the key to bit-identical states on any number of ranks.
+//!
+//! Tangential histories live beside the pairs, in the pair's canonical orientation. At a
+//! rebuild they are saved as a list sorted by `(id_a, id_b)` ([`SavedHistory`]), travel with
+//! migrating particles, and are re-attached to the new list by one merge of two sorted lists.
 
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
-use crate::physics::rapaport;
+use crate::physics::ContactLaw;
+
+/// Histories of the contacts in force, keyed and sorted by `(id_a, id_b)`, `id_a < id_b`.
+pub type SavedHistory = Vec<(u64, u64, [f64; 3])>;
 
 /// The pair list and what is needed to decide when to rebuild it.
 #[derive(Debug, Clone, Default)]
 pub struct NeighborList {
     /// Candidate pairs `(a, b)`, `id[a] < id[b]`, sorted by ids.
     pub pairs: Vec<(u32, u32)>,
+    /// Tangential history of each pair (zero when not in contact).
+    pub hist: Vec<[f64; 3]>,
     /// Positions of the owned particles when the list was built.
     x_build: Vec<[f64; 3]>,
     /// Scratch: particles sorted by cell, and each cell's start in it.
@@ -67,7 +76,7 @@ impl Grid {
 impl NeighborList {
     /// Rebuild the list from the owned and ghost particles of `p`. A pair is kept when the
     /// centres are closer than its interaction range plus `skin`.
-    pub fn build(&mut self, p: &Particles, grid: &Grid, skin: f64) {
+    pub fn build(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
         let n = p.len();
         let ncell = grid.n[0] * grid.n[1] * grid.n[2];
         self.cell_of.clear();
@@ -127,8 +136,7 @@ impl NeighborList {
                             let dx = xi[0] - xj[0];
                             let dy = xi[1] - xj[1];
                             let dz = zi - (xj[2] + p.z_image[j]);
-                            let reach =
-                                rapaport::cutoff(0.5 * (p.diameter[i] + p.diameter[j])) + skin;
+                            let reach = law.cutoff(p.diameter[i], p.diameter[j]) + skin;
                             if dx * dx + dy * dy + dz * dz < reach * reach {
                                 let (a, b) = if p.id[i] < p.id[j] { (i, j) } else { (j, i) };
                                 self.pairs.push((a as u32, b as u32));
@@ -143,6 +151,33 @@ impl NeighborList {
             .sort_unstable_by_key(|&(a, b)| (id[a as usize], id[b as usize]));
         self.x_build.clear();
         self.x_build.extend_from_slice(&p.x[..p.n_owned]);
+        self.hist.clear();
+        self.hist.resize(self.pairs.len(), [0.0; 3]);
+    }
+
+    /// The histories of the contacts in force, sorted by ids (the list's own order).
+    pub fn save_histories(&self, p: &Particles) -> SavedHistory {
+        self.pairs
+            .iter()
+            .zip(&self.hist)
+            .filter(|(_, h)| **h != [0.0; 3])
+            .map(|(&(a, b), h)| (p.id[a as usize], p.id[b as usize], *h))
+            .collect()
+    }
+
+    /// Give each pair of a freshly built list its saved history (sorted as the list is);
+    /// saved contacts without a pair here are dropped.
+    pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {
+        let mut k = 0;
+        for (pair, h) in self.pairs.iter().zip(self.hist.iter_mut()) {
+            let key = (p.id[pair.0 as usize], p.id[pair.1 as usize]);
+            while k < saved.len() && (saved[k].0, saved[k].1) < key {
+                k += 1;
+            }
+            if k < saved.len() && (saved[k].0, saved[k].1) == key {
+                *h = saved[k].2;
+            }
+        }
     }
 
     /// Largest displacement of an owned particle since the last build.

@@ -2,14 +2,14 @@
 
 use super::forces::{pair_forces, wall_and_body_forces};
 use super::halo::{self, Halo};
-use super::neighbor::{Grid, NeighborList};
+use super::neighbor::{Grid, NeighborList, SavedHistory};
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
-use crate::case::{Case, Ends};
+use crate::case::{Case, Shape};
 use crate::comm::Comm;
 use crate::particles::{ParticleState, Particles};
 use crate::physics::integrate::{drift, half_kick};
-use crate::physics::{rapaport, DrumWalls, Materials};
+use crate::physics::{law, ContactLaw, DrumWalls, Materials};
 
 /// Why a decomposition cannot be used.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,6 +26,8 @@ pub struct Sim<'c> {
     comm: &'c dyn Comm,
     /// The case being run.
     pub case: Case,
+    /// The contact law.
+    pub law: ContactLaw,
     /// Friction tables and material constants.
     pub mat: Materials,
     /// The drum's walls.
@@ -38,6 +40,14 @@ pub struct Sim<'c> {
     nl: NeighborList,
     /// Steps taken since time zero.
     pub step: u64,
+    /// Time step.
+    pub dt: f64,
+    /// Verlet skin.
+    pub skin: f64,
+    /// Gravitational acceleration along `-y` (the case's, except while a pour grows).
+    pub gravity: f64,
+    /// Factor on every diameter in the contacts (1, except while a pour grows).
+    pub scale: f64,
     /// Interaction range of the largest pair plus the skin: the halo width and cell size.
     pub reach: f64,
     /// Time per phase.
@@ -46,8 +56,12 @@ pub struct Sim<'c> {
     pub rebuilds: u64,
     /// Particles this rank sent to neighbours by migration so far.
     pub migrated: u64,
+    /// Contact histories this rank sent along with migrating particles so far.
+    pub histories_migrated: u64,
     /// Contacts in the last force pass.
     pub contacts: usize,
+    /// Largest relative overlap in the last force pass.
+    pub max_overlap: f64,
 }
 
 impl<'c> Sim<'c> {
@@ -59,28 +73,27 @@ impl<'c> Sim<'c> {
         initial: &[ParticleState],
     ) -> Result<Self, DecompositionError> {
         let mat = Materials::new(case);
-        let periodic = case.drum.ends == Ends::Periodic;
-        let slabs = Slabs::uniform(comm.size(), case.drum.length, periodic);
-        let d_max = case.species.iter().map(|s| s.diameter).fold(0.0, f64::max);
-        let reach = rapaport::cutoff(d_max) + case.run.skin;
+        let periodic = case.drum.periodic();
+        let length = case.drum.axial_length();
+        let slabs = Slabs::uniform(comm.size(), length, periodic);
+        let reach = law::reach(case);
         if slabs.min_width() < reach {
             return Err(DecompositionError(format!(
                 "{} ranks cut the drum (length {}) into slabs {:.3} long, thinner than the \
                  interaction range + skin {:.3}; use at most {} ranks",
                 comm.size(),
-                case.drum.length,
+                length,
                 slabs.min_width(),
                 reach,
-                ((case.drum.length / reach).floor() as usize).max(1)
+                ((length / reach).floor() as usize).max(1)
             )));
         }
         let walls = DrumWalls {
             radius: 0.5 * case.drum.diameter,
-            half_length: 0.5 * case.drum.length,
-            capped: !periodic,
+            half_length: 0.5 * length,
+            capped: !periodic && case.drum.shape == Shape::Cylinder,
+            sphere: case.drum.shape == Shape::Sphere,
             omega: case.drum.omega,
-            wall_diameter: mat.wall_diameter,
-            gamma_n: mat.gamma_n,
         };
         let mut p = Particles::default();
         let me = comm.rank();
@@ -90,6 +103,7 @@ impl<'c> Sim<'c> {
         let mut sim = Sim {
             comm,
             case: case.clone(),
+            law: ContactLaw::new(case),
             mat,
             walls,
             slabs,
@@ -97,11 +111,17 @@ impl<'c> Sim<'c> {
             halo: Halo::default(),
             nl: NeighborList::default(),
             step: 0,
+            dt: case.dt(),
+            skin: case.skin(),
+            gravity: case.model.gravity,
+            scale: 1.0,
             reach,
             timers: Timers::default(),
             rebuilds: 0,
             migrated: 0,
+            histories_migrated: 0,
             contacts: 0,
+            max_overlap: 0.0,
         };
         sim.rebuild();
         sim.forces();
@@ -109,12 +129,12 @@ impl<'c> Sim<'c> {
     }
 
     fn period(&self) -> Option<f64> {
-        self.slabs.periodic.then_some(self.case.drum.length)
+        self.slabs.periodic.then_some(self.slabs.length)
     }
 
     /// Time since the drum started turning.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.case.run.dt
+        self.step as f64 * self.dt
     }
 
     /// Drum rotations completed so far.
@@ -130,7 +150,7 @@ impl<'c> Sim<'c> {
     /// Advance one time step (velocity Verlet):
     /// half kick, drift, halo (rebuilt or refreshed), forces, half kick.
     pub fn step(&mut self) {
-        let dt = self.case.run.dt;
+        let dt = self.dt;
         let period = self.period();
         let n = self.p.n_owned;
         let p = &mut self.p;
@@ -150,7 +170,9 @@ impl<'c> Sim<'c> {
         let moved = self.timers.time(Phase::Comm, || {
             self.comm.max_f64(self.nl.max_displacement(&self.p, period))
         });
-        if 2.0 * moved > self.case.run.skin {
+        // A hair below half the skin, so that pairs listed at exactly the list range on one
+        // rank and not on another (last-bit differences of periodic images) never touch.
+        if 2.0 * moved > self.skin * (1.0 - 1e-9) {
             self.rebuild();
         } else {
             let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
@@ -177,14 +199,29 @@ impl<'c> Sim<'c> {
 
     /// Migrate particles that left the slab, rebuild the halo and the pair list.
     fn rebuild(&mut self) {
+        let saved = self.saved_histories();
+        self.rebuild_with(saved);
+    }
+
+    fn saved_histories(&self) -> SavedHistory {
+        if self.law.has_history() {
+            self.nl.save_histories(&self.p)
+        } else {
+            Vec::new()
+        }
+    }
+
+    fn rebuild_with(&mut self, mut saved: SavedHistory) {
+        let history = self.law.has_history();
         let (p, slabs, comm, mat, reach) =
             (&mut self.p, &self.slabs, self.comm, &self.mat, self.reach);
-        let (sent, halo) = self.timers.time(Phase::Comm, || {
+        let (moved, halo) = self.timers.time(Phase::Comm, || {
             p.clear_ghosts();
-            let sent = halo::migrate(p, slabs, comm, mat);
-            (sent, halo::borders(p, slabs, comm, mat, reach))
+            let moved = halo::migrate(p, slabs, comm, mat, &mut saved);
+            (moved, halo::borders(p, slabs, comm, mat, reach))
         });
-        self.migrated += sent as u64;
+        self.migrated += moved.particles as u64;
+        self.histories_migrated += moved.histories as u64;
         self.halo = halo;
         let (lo, hi) = self.slabs.range(self.comm.rank());
         let grid = Grid::new(
@@ -193,22 +230,59 @@ impl<'c> Sim<'c> {
             hi + self.reach,
             self.reach,
         );
-        let (nl, p, skin) = (&mut self.nl, &self.p, self.case.run.skin);
-        self.timers
-            .time(Phase::Neighbor, || nl.build(p, &grid, skin));
+        let (nl, p, skin, law) = (&mut self.nl, &self.p, self.skin, &self.law);
+        self.timers.time(Phase::Neighbor, || {
+            nl.build(p, &grid, skin, law);
+            if history {
+                nl.attach_histories(p, &saved);
+            }
+        });
         self.rebuilds += 1;
     }
 
     fn forces(&mut self) {
         let period = self.period();
-        let (p, nl, mat) = (&mut self.p, &self.nl, &self.mat);
+        let (p, nl, law, mat, scale) =
+            (&mut self.p, &mut self.nl, &self.law, &self.mat, self.scale);
         let stats = self
             .timers
-            .time(Phase::Pairs, || pair_forces(p, nl, mat, period));
+            .time(Phase::Pairs, || pair_forces(p, nl, law, mat, period, scale));
         self.contacts = stats.contacts;
-        let (walls, g) = (&self.walls, self.case.model.gravity);
-        self.timers
-            .time(Phase::Walls, || wall_and_body_forces(p, walls, mat, g));
+        self.max_overlap = stats.max_overlap;
+        let (walls, g) = (&self.walls, self.gravity);
+        self.timers.time(Phase::Walls, || {
+            wall_and_body_forces(p, walls, law, mat, g, scale)
+        });
+    }
+
+    /// Remove the owned particles for which `cut` holds (all ranks call this together), and
+    /// rebuild so that the halo and lists forget them.
+    pub fn remove_where(&mut self, cut: impl Fn(&ParticleState) -> bool) {
+        let saved = self.saved_histories();
+        self.p.clear_ghosts();
+        let leave: Vec<bool> = (0..self.p.n_owned).map(|i| cut(&self.p.state(i))).collect();
+        self.p.remove_owned(&leave);
+        self.rebuild_with(saved);
+        self.forces();
+    }
+
+    /// Recompute the forces of the current state (after changing gravity, walls or scale).
+    pub fn refresh_forces(&mut self) {
+        self.forces();
+    }
+
+    /// Mean over axial slices (of width about `width`) of the highest particle centre.
+    pub fn bed_top(&self, width: f64) -> f64 {
+        let n = ((self.slabs.length / width).floor() as usize).max(1);
+        let z0 = -0.5 * self.slabs.length;
+        let mut top = vec![f64::NEG_INFINITY; n];
+        for i in 0..self.p.n_owned {
+            let k = (((self.p.x[i][2] - z0) / self.slabs.length * n as f64) as usize).min(n - 1);
+            top[k] = top[k].max(self.p.x[i][1]);
+        }
+        self.comm.max_f64_all(&mut top);
+        let filled: Vec<f64> = top.into_iter().filter(|t| t.is_finite()).collect();
+        filled.iter().sum::<f64>() / filled.len().max(1) as f64
     }
 
     /// Total number of particles over all ranks.

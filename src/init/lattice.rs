@@ -9,7 +9,6 @@
 
 use crate::case::{Arrangement, Case, Ends};
 use crate::particles::ParticleState;
-use crate::physics::rapaport::fcc_spacing;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -23,13 +22,18 @@ struct Region {
     spacing: f64,
 }
 
+/// Side of the cubic fcc cell of number density `rho` (4 sites per cell).
+pub fn fcc_spacing(rho: f64) -> f64 {
+    (4.0 / rho).cbrt()
+}
+
 /// The initial particles of `case`, sorted by id.
 pub fn lattice(case: &Case) -> Vec<ParticleState> {
-    let l = case.drum.length;
+    let l = case.drum.axial_length();
     let radius = 0.5 * case.drum.diameter;
     let gap = case.init.wall_gap;
-    let capped = case.drum.ends == Ends::Capped;
-    let a0 = fcc_spacing(case.init.density);
+    let capped = case.drum.ends == Some(Ends::Capped);
+    let a0 = fcc_spacing(case.init.density.unwrap_or(f64::NAN));
     let d_min = case
         .species
         .iter()
@@ -117,14 +121,8 @@ pub fn lattice(case: &Case) -> Vec<ParticleState> {
             let phi = 2.0 * std::f64::consts::PI * rng.gen::<f64>();
             let sin_t = (1.0 - cos_t * cos_t).sqrt();
             let s = case.init.speed;
-            ParticleState {
-                id: k as u64,
-                species,
-                diameter,
-                x,
-                v: [s * sin_t * phi.cos(), s * sin_t * phi.sin(), s * cos_t],
-                w: [0.0; 3],
-            }
+            let v = [s * sin_t * phi.cos(), s * sin_t * phi.sin(), s * cos_t];
+            ParticleState::new(k as u64, species, diameter, x, v, [0.0; 3])
         })
         .collect()
 }

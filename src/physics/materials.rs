@@ -1,21 +1,34 @@
-//! Per-species-pair and per-species-wall friction tables, built once from the case with
-//! Rapaport's rules: `gamma_s^{bs} = min(gamma_s^{bb}, gamma_s^{ss})`, and the `mu` values of
-//! each family (particle-particle, particle-wall) in the ratio of the corresponding `gamma_s`,
-//! the largest being `mu_max` (0.5). Explicit `mu` / `mu_wall` in the case override the rule.
+//! Per-species-pair and per-species-wall friction tables, built once from the case.
+//!
+//! Rapaport family: `gamma_s^{bs} = min(gamma_s^{bb}, gamma_s^{ss})`, and the `mu` values of
+//! each family (particle-particle, particle-wall) in the ratio of the corresponding
+//! `gamma_s`, the largest being `mu_max` (0.5); explicit `mu` / `mu_wall` override the rule.
+//! Spring-dashpot family: each species' `mu`, `mu_wall` (default `mu`) and `mu_cap` (default
+//! `mu_wall`); a mixed pair takes the smaller `mu`. A frictionless cap has no friction at all.
 
 use super::rapaport::Friction;
-use crate::case::Case;
+use crate::case::{CapSurface, Case, Family};
 
-/// Friction of every species pair and of every species against the walls.
+/// The walls a particle can touch, each with its own friction and history slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wall {
+    /// The curved cylinder wall, or the sphere.
+    Curved = 0,
+    /// The end cap at `z = -L/2`.
+    CapLow = 1,
+    /// The end cap at `z = +L/2`.
+    CapHigh = 2,
+}
+
+/// Number of wall history slots per particle.
+pub const WALLS: usize = 3;
+
+/// Friction of every species pair and of every species against each wall.
 #[derive(Debug, Clone)]
 pub struct Materials {
     n: usize,
     pair: Vec<Friction>,
-    wall: Vec<Friction>,
-    /// Normal damping coefficient, the same for all contacts.
-    pub gamma_n: f64,
-    /// Diameter attributed to the walls.
-    pub wall_diameter: f64,
+    wall: Vec<[Friction; WALLS]>,
     /// Material density (mass = density * pi/6 * d^3).
     pub density: f64,
 }
@@ -25,37 +38,67 @@ impl Materials {
     pub fn new(case: &Case) -> Self {
         let sp = &case.species;
         let n = sp.len();
-        let g_max = sp.iter().map(|s| s.gamma_s).fold(0.0, f64::max);
-        let gw_max = sp.iter().map(|s| s.gamma_s_wall).fold(0.0, f64::max);
-        let ratio = |g: f64, gmax: f64| if gmax > 0.0 { g / gmax } else { 1.0 };
+        let rapaport = case.model.family == Family::Rapaport;
+        let g = |x: Option<f64>| x.unwrap_or(0.0);
+        let g_max = sp.iter().map(|s| g(s.gamma_s)).fold(0.0, f64::max);
+        let gw_max = sp.iter().map(|s| g(s.gamma_s_wall)).fold(0.0, f64::max);
+        let ratio = |x: f64, max: f64| if max > 0.0 { x / max } else { 1.0 };
         let mu_self: Vec<f64> = sp
             .iter()
-            .map(|s| s.mu.unwrap_or(case.model.mu_max * ratio(s.gamma_s, g_max)))
+            .map(|s| match (s.mu, rapaport) {
+                (Some(mu), _) => mu,
+                (None, true) => case.model.mu_max * ratio(g(s.gamma_s), g_max),
+                (None, false) => 0.0,
+            })
             .collect();
         let mut pair = Vec::with_capacity(n * n);
         for a in 0..n {
             for b in 0..n {
                 pair.push(Friction {
-                    gamma_s: sp[a].gamma_s.min(sp[b].gamma_s),
+                    gamma_s: g(sp[a].gamma_s).min(g(sp[b].gamma_s)),
                     mu: mu_self[a].min(mu_self[b]),
                 });
             }
         }
         let wall = sp
             .iter()
-            .map(|s| Friction {
-                gamma_s: s.gamma_s_wall,
-                mu: s
-                    .mu_wall
-                    .unwrap_or(case.model.mu_max * ratio(s.gamma_s_wall, gw_max)),
+            .zip(&mu_self)
+            .map(|(s, &mu)| {
+                let mu_wall = match (s.mu_wall, rapaport) {
+                    (Some(m), _) => m,
+                    (None, true) => case.model.mu_max * ratio(g(s.gamma_s_wall), gw_max),
+                    (None, false) => mu,
+                };
+                let curved = Friction {
+                    gamma_s: g(s.gamma_s_wall),
+                    mu: mu_wall,
+                };
+                let cap = Friction {
+                    gamma_s: curved.gamma_s,
+                    mu: s.mu_cap.unwrap_or(mu_wall),
+                };
+                let none = Friction {
+                    gamma_s: 0.0,
+                    mu: 0.0,
+                };
+                let surface = |c: CapSurface| {
+                    if c == CapSurface::Frictional {
+                        cap
+                    } else {
+                        none
+                    }
+                };
+                [
+                    curved,
+                    surface(case.drum.cap_low),
+                    surface(case.drum.cap_high),
+                ]
             })
             .collect();
         Materials {
             n,
             pair,
             wall,
-            gamma_n: case.model.gamma_n,
-            wall_diameter: case.model.wall_diameter,
             density: case.model.density,
         }
     }
@@ -66,10 +109,10 @@ impl Materials {
         self.pair[a as usize * self.n + b as usize]
     }
 
-    /// Friction between species `a` and the walls.
+    /// Friction between species `a` and wall `w`.
     #[inline]
-    pub fn wall(&self, a: u8) -> Friction {
-        self.wall[a as usize]
+    pub fn wall(&self, a: u8, w: Wall) -> Friction {
+        self.wall[a as usize][w as usize]
     }
 
     /// Mass of a particle of diameter `d`.

@@ -1,11 +1,16 @@
 //! Physics kernels as plain functions on plain data: contact laws, walls, integration.
 //! Nothing here speaks MPI or does I/O.
 
+pub mod contact;
 pub mod integrate;
+pub mod law;
 pub mod materials;
 pub mod rapaport;
+pub mod spring_dashpot;
 pub mod walls;
 
+pub use contact::{Body, Contact};
+pub use law::ContactLaw;
 pub use materials::Materials;
 pub use rapaport::V3;
 pub use walls::DrumWalls;

@@ -6,7 +6,7 @@
 //! negative on `b`. The pair is always evaluated with `a` the particle of lower global id, so
 //! every rank that evaluates it does the same arithmetic.
 
-use crate::case::Case;
+pub use super::contact::Contact;
 use nalgebra::Vector3;
 
 /// 3-vector of `f64`.
@@ -19,18 +19,10 @@ pub const CUTOFF_FACTOR: f64 = 1.122_462_048_309_373;
 /// (`I = KAPPA m d^2 / 2 = m d^2 / 10`).
 pub const KAPPA: f64 = 0.2;
 
-/// Smallest number of steps per contact period accepted by the time-step check.
-pub const STEPS_PER_PERIOD_MIN: f64 = 10.0;
-
 /// Interaction range of a pair of effective diameter `d_ij`.
 #[inline]
 pub fn cutoff(d_ij: f64) -> f64 {
     CUTOFF_FACTOR * d_ij
-}
-
-/// Side of the cubic fcc cell of number density `rho` (4 sites per cell).
-pub fn fcc_spacing(rho: f64) -> f64 {
-    (4.0 / rho).cbrt()
 }
 
 /// Friction coefficients of one pair of materials.
@@ -40,16 +32,6 @@ pub struct Friction {
     pub gamma_s: f64,
     /// Static friction coefficient `mu` (Coulomb cap).
     pub mu: f64,
-}
-
-/// Result of a contact: force on `a` and the vector `n x f_s` from which both torques follow
-/// (`tau_a = -(d_a/2) n x f_s`, `tau_b = -(d_b/2) n x f_s`, section III).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Contact {
-    /// Total force on `a` (`f_n + f_s`); `b` receives its negative.
-    pub force: V3,
-    /// `n x f_s`, with `n` the unit vector from `b` to `a`.
-    pub n_cross_fs: V3,
 }
 
 /// Magnitude of the repulsion of eq. (1) at distance `r` for effective diameter `d_ij`
@@ -150,52 +132,4 @@ pub fn wall(
 /// Stiffness of the repulsion at contact (`r = d_ij`): `|dF/dr| = 456 / d_ij^2`.
 pub fn contact_stiffness(d_ij: f64) -> f64 {
     456.0 / (d_ij * d_ij)
-}
-
-/// Limits on the time step implied by a case.
-#[derive(Debug, Clone, Copy)]
-pub struct StepLimits {
-    /// Shortest harmonic period `2 pi sqrt(m_eff / k)` of any contact (pairs and walls).
-    pub period_min: f64,
-    /// Largest accepted time step (`period_min / STEPS_PER_PERIOD_MIN`).
-    pub dt_max: f64,
-    /// Largest damping rate `gamma / m_eff` (normal and sliding, with the rotational
-    /// contribution to the tangential effective mass).
-    pub damping_rate_max: f64,
-}
-
-/// Time-step limits of `case` from its smallest particles (nominal diameter minus spread).
-pub fn step_limits(case: &Case) -> StepLimits {
-    let mass = |d: f64| case.model.density * std::f64::consts::PI / 6.0 * d * d * d;
-    let mut period_min = f64::INFINITY;
-    let mut rate_max: f64 = 0.0;
-    let gamma_s_max = case
-        .species
-        .iter()
-        .flat_map(|s| [s.gamma_s, s.gamma_s_wall])
-        .fold(0.0, f64::max);
-    for a in &case.species {
-        let da = a.diameter - a.diameter_spread;
-        let ma = mass(da);
-        // against the wall (infinite mass)
-        let d_iw = 0.5 * (da + case.model.wall_diameter);
-        let mut consider = |d_ij: f64, m_eff: f64| {
-            let k = contact_stiffness(d_ij);
-            period_min = period_min.min(2.0 * std::f64::consts::PI * (m_eff / k).sqrt());
-            // tangential effective mass of a sphere pair is 2/7 of the normal one
-            let rate = (case.model.gamma_n.max(gamma_s_max * 3.5)) / m_eff;
-            rate_max = rate_max.max(rate);
-        };
-        consider(d_iw, ma);
-        for b in &case.species {
-            let db = b.diameter - b.diameter_spread;
-            let mb = mass(db);
-            consider(0.5 * (da + db), ma * mb / (ma + mb));
-        }
-    }
-    StepLimits {
-        period_min,
-        dt_max: period_min / STEPS_PER_PERIOD_MIN,
-        damping_rate_max: rate_max,
-    }
 }

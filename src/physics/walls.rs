@@ -1,24 +1,25 @@
 //! The drum's walls as analytic surfaces turning with the drum: the curved cylinder wall and,
-//! for capped drums, the two flat end caps (Rapaport section III, rotated to our frame: axis
-//! `z`, rotation `omega` about `+z`, so the wall moves with `omega z x r`).
+//! for capped drums, the two flat end caps; or a sphere. The wall moves with `omega z x r` at
+//! the contact point (axis `z`, rotation about `+z`).
 
-use super::rapaport::{self, Friction, V3};
+use super::contact::Body;
+use super::law::ContactLaw;
+use super::materials::{Materials, Wall, WALLS};
+use super::rapaport::V3;
 
 /// Geometry and motion of the drum's walls.
 #[derive(Debug, Clone, Copy)]
 pub struct DrumWalls {
-    /// Radius `D/2` of the curved wall.
+    /// Radius `D/2` of the curved wall or sphere.
     pub radius: f64,
     /// Half length `L/2`; the caps (if any) are at `z = -L/2` and `z = +L/2`.
     pub half_length: f64,
-    /// Whether the ends are capped (otherwise periodic).
+    /// Whether the ends are capped (cylinder).
     pub capped: bool,
+    /// Whether the drum is a sphere.
+    pub sphere: bool,
     /// Angular velocity of the drum about `+z`.
     pub omega: f64,
-    /// Diameter attributed to the walls.
-    pub wall_diameter: f64,
-    /// Normal damping coefficient.
-    pub gamma_n: f64,
 }
 
 /// Force and torque that the walls exert on one particle.
@@ -31,62 +32,74 @@ pub struct WallLoad {
 }
 
 impl DrumWalls {
-    /// Sum of the wall forces on a particle at `x` with velocity `v`, spin `w`, diameter `d`
-    /// and wall friction `fr`; curved wall first, then the cap at `-L/2`, then at `+L/2`.
+    /// Sum of the wall forces on a particle at `x` (curved wall or sphere first, then the cap
+    /// at `-L/2`, then at `+L/2`), updating its wall histories `hist`.
     #[inline]
-    pub fn load(&self, x: V3, v: V3, w: V3, d: f64, fr: Friction) -> WallLoad {
-        let d_iw = 0.5 * (d + self.wall_diameter);
-        let reach = rapaport::cutoff(d_iw);
+    pub fn load(
+        &self,
+        law: &ContactLaw,
+        mat: &Materials,
+        species: u8,
+        x: V3,
+        body: &Body,
+        hist: &mut [[f64; 3]; WALLS],
+    ) -> WallLoad {
+        let reach = law.wall_reach(body.d);
         let mut out = WallLoad {
             force: V3::zeros(),
             torque: V3::zeros(),
         };
-        let mut add = |c: Option<rapaport::Contact>| {
-            if let Some(c) = c {
+        let mut touch = |wall: Wall, r: V3, v_wall: V3, hist: &mut [f64; 3]| {
+            if let Some(c) = law.wall(r, body, v_wall, mat.wall(species, wall), hist) {
                 out.force += c.force;
-                out.torque -= c.n_cross_fs * (0.5 * d);
+                out.torque -= c.n_cross_fs * (0.5 * body.d);
             }
         };
 
-        // Curved wall: r'_iw = (1 - R/rho) rho_vec, from the wall point to the centre.
-        let rho2 = x.x * x.x + x.y * x.y;
         let inner = self.radius - reach;
-        if inner <= 0.0 || rho2 > inner * inner {
-            let rho = rho2.sqrt();
-            if rho > 0.0 {
-                let radial = V3::new(x.x, x.y, 0.0);
-                let r = radial * (1.0 - self.radius / rho);
+        if self.sphere {
+            let rho2 = x.norm_squared();
+            if inner <= 0.0 || rho2 > inner * inner {
+                let rho = rho2.sqrt();
                 let s = self.radius / rho;
                 let v_wall = V3::new(-x.y * s, x.x * s, 0.0) * self.omega;
-                add(rapaport::wall(r, v, w, v_wall, d_iw, self.gamma_n, fr));
+                touch(Wall::Curved, x * (1.0 - s), v_wall, &mut hist[0]);
+            } else {
+                hist[0] = [0.0; 3];
             }
+            return out;
+        }
+
+        // Curved wall: r'_iw = (1 - R/rho) rho_vec, from the wall point to the centre.
+        let rho2 = x.x * x.x + x.y * x.y;
+        if inner <= 0.0 || rho2 > inner * inner {
+            let rho = rho2.sqrt();
+            let s = self.radius / rho;
+            let radial = V3::new(x.x, x.y, 0.0);
+            let v_wall = V3::new(-x.y * s, x.x * s, 0.0) * self.omega;
+            touch(Wall::Curved, radial * (1.0 - s), v_wall, &mut hist[0]);
+        } else {
+            hist[0] = [0.0; 3];
         }
 
         if self.capped {
             let v_wall = V3::new(-x.y, x.x, 0.0) * self.omega;
             let h_low = x.z + self.half_length;
             if h_low < reach {
-                add(rapaport::wall(
-                    V3::new(0.0, 0.0, h_low),
-                    v,
-                    w,
-                    v_wall,
-                    d_iw,
-                    self.gamma_n,
-                    fr,
-                ));
+                touch(Wall::CapLow, V3::new(0.0, 0.0, h_low), v_wall, &mut hist[1]);
+            } else {
+                hist[1] = [0.0; 3];
             }
             let h_high = self.half_length - x.z;
             if h_high < reach {
-                add(rapaport::wall(
+                touch(
+                    Wall::CapHigh,
                     V3::new(0.0, 0.0, -h_high),
-                    v,
-                    w,
                     v_wall,
-                    d_iw,
-                    self.gamma_n,
-                    fr,
-                ));
+                    &mut hist[2],
+                );
+            } else {
+                hist[2] = [0.0; 3];
             }
         }
         out

@@ -1,0 +1,163 @@
+//! Initial states given particle by particle: `[[init.particle]]` tables in the case, or an
+//! HDF5 file with the `/particles` layout of a run's output (so a run can start from an
+//! edited state or a bed poured elsewhere). Particles must lie inside the drum and may not
+//! overlap by more than 1 % of the smaller diameter.
+
+use crate::case::{Case, Shape};
+use crate::particles::ParticleState;
+use std::collections::HashMap;
+
+/// Largest accepted overlap, relative to the smaller diameter.
+pub const MAX_OVERLAP: f64 = 0.01;
+
+/// The particles of `case` (`init.kind = "particles"`), sorted by id.
+pub fn explicit(case: &Case) -> Result<Vec<ParticleState>, String> {
+    let mut out = match &case.init.file {
+        Some(path) => read_file(path)?,
+        None => case
+            .init
+            .particle
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                ParticleState::new(
+                    k as u64,
+                    p.species,
+                    p.diameter,
+                    p.position,
+                    p.velocity,
+                    p.angular_velocity,
+                )
+            })
+            .collect(),
+    };
+    out.sort_by_key(|p| p.id);
+    check(case, &out)?;
+    Ok(out)
+}
+
+fn read_file(path: &str) -> Result<Vec<ParticleState>, String> {
+    let bad = |e: hdf5::Error| format!("init.file: cannot read particles from {path}: {e}");
+    let f = hdf5::File::open(path).map_err(bad)?;
+    let id: Vec<u64> = f
+        .dataset("particles/id")
+        .and_then(|d| d.read_raw())
+        .map_err(bad)?;
+    let species: Vec<u8> = f
+        .dataset("particles/species")
+        .and_then(|d| d.read_raw())
+        .map_err(bad)?;
+    let diameter: Vec<f64> = f
+        .dataset("particles/diameter")
+        .and_then(|d| d.read_raw())
+        .map_err(bad)?;
+    let vec3 = |name: &str| -> Result<Vec<f64>, String> {
+        let v: Vec<f64> = f
+            .dataset(&format!("particles/{name}"))
+            .and_then(|d| d.read_raw())
+            .map_err(bad)?;
+        if v.len() != 3 * id.len() {
+            return Err(format!(
+                "init.file: {path}: particles/{name} has {} values, expected {}",
+                v.len(),
+                3 * id.len()
+            ));
+        }
+        Ok(v)
+    };
+    let (x, v, w) = (
+        vec3("position")?,
+        vec3("velocity")?,
+        vec3("angular_velocity")?,
+    );
+    if species.len() != id.len() || diameter.len() != id.len() {
+        return Err(format!(
+            "init.file: {path}: the /particles datasets differ in length"
+        ));
+    }
+    Ok((0..id.len())
+        .map(|i| {
+            let t = |a: &[f64]| [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
+            ParticleState::new(id[i], species[i], diameter[i], t(&x), t(&v), t(&w))
+        })
+        .collect())
+}
+
+fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
+    let radius = 0.5 * case.drum.diameter;
+    let half = 0.5 * case.drum.axial_length();
+    for w in ps.windows(2) {
+        if w[0].id == w[1].id {
+            return Err(format!("init: particle id {} appears twice", w[0].id));
+        }
+    }
+    for p in ps {
+        if p.species as usize >= case.species.len() {
+            return Err(format!(
+                "init: particle {} has species {}, but the case has {}",
+                p.id,
+                p.species,
+                case.species.len()
+            ));
+        }
+        let r = 0.5 * p.diameter;
+        let x = p.x;
+        let outside = match case.drum.shape {
+            Shape::Sphere => (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + r > radius,
+            Shape::Cylinder => {
+                (x[0] * x[0] + x[1] * x[1]).sqrt() + r > radius
+                    || (!case.drum.periodic() && x[2].abs() + r > half)
+                    || (case.drum.periodic() && !(-half..half).contains(&x[2]))
+            }
+        };
+        if outside || !x.iter().all(|c| c.is_finite()) {
+            return Err(format!(
+                "init: particle {} at ({}, {}, {}) is not inside the drum",
+                p.id, x[0], x[1], x[2]
+            ));
+        }
+    }
+    let cell = ps.iter().map(|p| p.diameter).fold(0.0, f64::max).max(1e-12);
+    let key = |x: &[f64; 3]| {
+        [
+            (x[0] / cell).floor() as i64,
+            (x[1] / cell).floor() as i64,
+            (x[2] / cell).floor() as i64,
+        ]
+    };
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (i, p) in ps.iter().enumerate() {
+        grid.entry(key(&p.x)).or_default().push(i);
+    }
+    for (i, p) in ps.iter().enumerate() {
+        let c = key(&p.x);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    for &j in grid
+                        .get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                        .map(Vec::as_slice)
+                        .unwrap_or(&[])
+                    {
+                        if j <= i {
+                            continue;
+                        }
+                        let q = &ps[j];
+                        let d: f64 = (0..3)
+                            .map(|k| (p.x[k] - q.x[k]).powi(2))
+                            .sum::<f64>()
+                            .sqrt();
+                        let overlap = 0.5 * (p.diameter + q.diameter) - d;
+                        if overlap > MAX_OVERLAP * p.diameter.min(q.diameter) {
+                            return Err(format!(
+                                "init: particles {} and {} overlap by {:.2} % of the smaller diameter (at most {} % is accepted)",
+                                p.id, q.id, 100.0 * overlap / p.diameter.min(q.diameter), 100.0 * MAX_OVERLAP
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,245 @@
+//! The contact law of a run, chosen once from the case: an enum dispatched per contact,
+//! never a trait object in the inner loop.
+
+use super::contact::{Body, Contact};
+use super::rapaport::{self, Friction, V3};
+use super::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
+use crate::case::{Case, Family, Normal, Tangential};
+use std::f64::consts::PI;
+
+/// Fewest steps per binary contact accepted by the time-step check.
+pub const STEPS_PER_CONTACT_MIN: f64 = 5.0;
+
+/// A run's contact law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactLaw {
+    /// Rapaport (2002) section III.
+    Rapaport {
+        /// Normal damping coefficient.
+        gamma_n: f64,
+        /// Diameter attributed to the walls.
+        wall_diameter: f64,
+    },
+    /// The thesis' spring-dashpot laws.
+    SpringDashpot(SpringDashpot),
+}
+
+impl ContactLaw {
+    /// The law of `case`.
+    pub fn new(case: &Case) -> Self {
+        let m = &case.model;
+        match m.family {
+            Family::Rapaport => ContactLaw::Rapaport {
+                gamma_n: m.gamma_n.unwrap_or(0.0),
+                wall_diameter: m.wall_diameter,
+            },
+            Family::SpringDashpot => {
+                let e = m.restitution.unwrap_or(1.0);
+                let normal = match m.normal {
+                    Normal::Linear => {
+                        let tc = m.collision_time.unwrap_or(1.0);
+                        let gamma = -e.ln() / tc;
+                        NormalLaw::Linear {
+                            k0: (PI / tc) * (PI / tc) + gamma * gamma,
+                            two_gamma: 2.0 * gamma,
+                        }
+                    }
+                    Normal::Hertz => {
+                        let nu = m.poisson_ratio.unwrap_or(0.0);
+                        NormalLaw::Hertz {
+                            kh: 2.0 * m.youngs_modulus.unwrap_or(0.0) / (3.0 * (1.0 - nu * nu)),
+                            gamma_h: m.hertz_damping.unwrap_or(0.0),
+                        }
+                    }
+                };
+                let tangential = match m.tangential {
+                    Tangential::Viscous => TangentialLaw::Viscous { gamma_s: m.gamma_s },
+                    Tangential::History => TangentialLaw::History {
+                        ratio: m.stiffness_ratio,
+                        dt: case.dt(),
+                    },
+                };
+                ContactLaw::SpringDashpot(SpringDashpot { normal, tangential })
+            }
+        }
+    }
+
+    /// Whether contacts carry a tangential history.
+    pub fn has_history(&self) -> bool {
+        matches!(
+            self,
+            ContactLaw::SpringDashpot(SpringDashpot {
+                tangential: TangentialLaw::History { .. },
+                ..
+            })
+        )
+    }
+
+    /// Centre distance below which two particles interact.
+    #[inline]
+    pub fn cutoff(&self, d_a: f64, d_b: f64) -> f64 {
+        match self {
+            ContactLaw::Rapaport { .. } => rapaport::cutoff(0.5 * (d_a + d_b)),
+            ContactLaw::SpringDashpot(_) => 0.5 * (d_a + d_b),
+        }
+    }
+
+    /// Distance from a wall below which a particle of diameter `d` touches it.
+    #[inline]
+    pub fn wall_reach(&self, d: f64) -> f64 {
+        match self {
+            ContactLaw::Rapaport { wall_diameter, .. } => {
+                rapaport::cutoff(0.5 * (d + wall_diameter))
+            }
+            ContactLaw::SpringDashpot(_) => 0.5 * d,
+        }
+    }
+
+    /// Contact between `a` and `b`, `r = x_a - x_b`.
+    #[inline]
+    pub fn pair(
+        &self,
+        r: V3,
+        a: &Body,
+        b: &Body,
+        fr: Friction,
+        hist: &mut [f64; 3],
+    ) -> Option<Contact> {
+        match self {
+            ContactLaw::Rapaport { gamma_n, .. } => {
+                rapaport::pair(r, a.v, b.v, a.w, b.w, a.d, b.d, *gamma_n, fr)
+            }
+            ContactLaw::SpringDashpot(sd) => sd.pair(r, a, b, fr, hist),
+        }
+    }
+
+    /// Contact of `p` with a wall: `r` from the wall point to the centre, `v_wall` the wall's
+    /// velocity there.
+    #[inline]
+    pub fn wall(
+        &self,
+        r: V3,
+        p: &Body,
+        v_wall: V3,
+        fr: Friction,
+        hist: &mut [f64; 3],
+    ) -> Option<Contact> {
+        match self {
+            ContactLaw::Rapaport {
+                gamma_n,
+                wall_diameter,
+            } => rapaport::wall(
+                r,
+                p.v,
+                p.w,
+                v_wall,
+                0.5 * (p.d + wall_diameter),
+                *gamma_n,
+                fr,
+            ),
+            ContactLaw::SpringDashpot(sd) => sd.wall(r, p, v_wall, fr, hist),
+        }
+    }
+}
+
+/// The smallest diameter a species can have.
+pub fn smallest_diameter(s: &crate::case::Species) -> f64 {
+    (s.diameter - s.diameter_spread) * (1.0 - 3.0 * s.diameter_sd)
+}
+
+/// Largest diameter a species can have.
+pub fn largest_diameter(s: &crate::case::Species) -> f64 {
+    s.diameter * (1.0 + 3.0 * s.diameter_sd)
+}
+
+/// Halo width and cell size: the largest interaction range plus the skin.
+pub fn reach(case: &Case) -> f64 {
+    let d = case
+        .species
+        .iter()
+        .map(largest_diameter)
+        .fold(0.0, f64::max);
+    ContactLaw::new(case).cutoff(d, d) + case.skin()
+}
+
+/// Limits on the time step implied by a case.
+#[derive(Debug, Clone, Copy)]
+pub struct StepLimits {
+    /// Shortest binary contact time of any pair or wall contact.
+    pub contact_time_min: f64,
+    /// Largest accepted time step (`contact_time_min / STEPS_PER_CONTACT_MIN`).
+    pub dt_max: f64,
+    /// Largest damping rate `gamma / m_eff` (normal and tangential, the latter with the
+    /// rotational contribution to the tangential effective mass).
+    pub damping_rate_max: f64,
+}
+
+/// Time-step limits of `case`, from its smallest particles.
+pub fn step_limits(case: &Case) -> StepLimits {
+    let m = &case.model;
+    let mass = |d: f64| m.density * PI / 6.0 * d * d * d;
+    // (d_ij, m_eff) of the contacts of the smallest particles, walls included
+    let mut contacts = Vec::new();
+    for a in &case.species {
+        let da = smallest_diameter(a);
+        contacts.push((da, mass(da), true));
+        for b in &case.species {
+            let db = smallest_diameter(b);
+            let (ma, mb) = (mass(da), mass(db));
+            contacts.push((0.5 * (da + db), ma * mb / (ma + mb), false));
+        }
+    }
+    let mut t_min = f64::INFINITY;
+    let mut rate: f64 = 0.0;
+    match m.family {
+        Family::Rapaport => {
+            let gamma_s_max = case
+                .species
+                .iter()
+                .flat_map(|s| [s.gamma_s.unwrap_or(0.0), s.gamma_s_wall.unwrap_or(0.0)])
+                .fold(0.0, f64::max);
+            for &(d, m_eff, wall) in &contacts {
+                let d_ij = if wall { 0.5 * (d + m.wall_diameter) } else { d };
+                let k = rapaport::contact_stiffness(d_ij);
+                t_min = t_min.min(PI * (m_eff / k).sqrt());
+                rate = rate.max(m.gamma_n.unwrap_or(0.0).max(gamma_s_max * 3.5) / m_eff);
+            }
+        }
+        Family::SpringDashpot => {
+            let e = m.restitution.unwrap_or(1.0);
+            match m.normal {
+                Normal::Linear => {
+                    let tc = m.collision_time.unwrap_or(f64::NAN);
+                    t_min = tc;
+                    let gamma = -e.ln() / tc;
+                    rate = 2.0 * gamma * 3.5;
+                    if let Some(gs) = m.gamma_s {
+                        for &(_, m_eff, _) in &contacts {
+                            rate = rate.max(gs * 3.5 / m_eff);
+                        }
+                    }
+                }
+                Normal::Hertz => {
+                    // contact time of a Hertz collision at a characteristic impact speed
+                    let r = 0.5 * case.drum.diameter;
+                    let v = 2.0
+                        * (case.drum.omega.abs() * r).max((m.gravity * case.drum.diameter).sqrt());
+                    let nu = m.poisson_ratio.unwrap_or(0.0);
+                    let e_star = m.youngs_modulus.unwrap_or(f64::NAN) / (2.0 * (1.0 - nu * nu));
+                    for &(d, m_eff, wall) in &contacts {
+                        let r_eff = if wall { 0.5 * d } else { 0.25 * d };
+                        let t = 2.87 * (m_eff * m_eff / (r_eff * e_star * e_star * v)).powf(0.2);
+                        t_min = t_min.min(t);
+                        rate = rate
+                            .max(m.hertz_damping.unwrap_or(0.0) * (0.05 * d).sqrt() * 3.5 / m_eff);
+                    }
+                }
+            }
+        }
+    }
+    StepLimits {
+        contact_time_min: t_min,
+        dt_max: t_min / STEPS_PER_CONTACT_MIN,
+        damping_rate_max: rate,
+    }
+}
