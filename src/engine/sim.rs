@@ -267,7 +267,13 @@ impl<'c> Sim<'c> {
     }
 
     /// Recompute the forces of the current state (after changing gravity, walls or scale).
+    /// The ghosts are refreshed first: they must carry their owners' current velocities, not
+    /// the predicted ones of the last step, or a pair across a slab face would be evaluated
+    /// with different inputs on its two sides.
     pub fn refresh_forces(&mut self) {
+        let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
+        self.timers
+            .time(Phase::Comm, || halo::update_ghosts(p, halo, slabs, comm));
         self.forces();
     }
 

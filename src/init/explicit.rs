@@ -100,7 +100,8 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
                 case.species.len()
             ));
         }
-        let r = 0.5 * p.diameter;
+        // a wall overlap of up to MAX_OVERLAP of the diameter is accepted, as between particles
+        let r = 0.5 * p.diameter - MAX_OVERLAP * p.diameter;
         let x = p.x;
         let outside = match case.drum.shape {
             Shape::Sphere => (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + r > radius,

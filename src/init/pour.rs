@@ -213,6 +213,8 @@ pub fn grow_settle_cut(sim: &mut Sim, case: &Case, start_scale: f64) -> Result<P
         / dt)
         .ceil() as u64;
     sim.gravity = 0.0;
+    sim.scale = start_scale;
+    sim.refresh_forces();
     for k in 0..grow_steps {
         sim.scale = start_scale + (1.0 - start_scale) * (k + 1) as f64 / grow_steps as f64;
         sim.step();
