@@ -52,6 +52,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
     let (initial, start_scale) = initial_particles(case)?;
     let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
     drop(initial);
+    let mut pour_report = None;
     if case.init.kind == crate::case::InitKind::Pour {
         let t0 = Instant::now();
         let r = pour::grow_settle_cut(&mut sim, case, start_scale)?;
@@ -66,6 +67,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
                 t0.elapsed().as_secs_f64()
             );
         }
+        pour_report = Some(r);
     }
     let n_total = sim.global_count();
 
@@ -184,11 +186,22 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
 
     let states = sim.gather_sorted();
     let migrations = comm.sum_u64(sim.migrated);
+    let histories_migrated = comm.sum_u64(sim.histories_migrated);
     let mut write_err = String::new();
     if let (Some(states), Some(f)) = (states, file) {
         let written = f
             .write_particles(&states)
-            .and_then(|_| f.write_stats(sim.step, sim.rebuilds, migrations))
+            .and_then(|_| f.write_number("steps", sim.step))
+            .and_then(|_| f.write_number("rebuilds", sim.rebuilds))
+            .and_then(|_| f.write_number("migrations", migrations))
+            .and_then(|_| f.write_number("histories_migrated", histories_migrated))
+            .and_then(|_| match &pour_report {
+                Some(r) => f
+                    .write_number("pour_poured", r.poured)
+                    .and_then(|_| f.write_number("pour_cut_height", r.cut_height))
+                    .and_then(|_| f.write_number("pour_measured_fill", r.measured_fill)),
+                None => Ok(()),
+            })
             .map_err(|e| e.to_string())
             .and_then(|_| f.finish().map_err(|e| e.to_string()))
             .and_then(|path| {

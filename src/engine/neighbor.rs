@@ -45,18 +45,37 @@ pub struct Grid {
 impl Grid {
     /// Cells of size at least `reach` over `x, y` in `[-radius, radius]`, `z` in `[z_lo, z_hi]`.
     pub fn new(radius: f64, z_lo: f64, z_hi: f64, reach: f64) -> Self {
-        let span = [2.0 * radius, 2.0 * radius, z_hi - z_lo];
+        Self::over([-radius, -radius, z_lo], [radius, radius, z_hi], reach)
+    }
+
+    /// Cells of size at least `reach` over the box `[lo, hi]`.
+    pub fn over(lo: [f64; 3], hi: [f64; 3], reach: f64) -> Self {
         let mut n = [1usize; 3];
         let mut size = [0.0; 3];
         for k in 0..3 {
-            n[k] = ((span[k] / reach).floor() as usize).max(1);
-            size[k] = span[k] / n[k] as f64;
+            let span = (hi[k] - lo[k]).max(reach);
+            n[k] = ((span / reach).floor() as usize).max(1);
+            size[k] = span / n[k] as f64;
         }
-        Grid {
-            lo: [-radius, -radius, z_lo],
-            n,
-            size,
+        Grid { lo, n, size }
+    }
+
+    /// Cells of size at least `reach` over the bounding box of `p`'s particles (their binning
+    /// coordinates), so that the grid grows with the particles, not with the drum.
+    pub fn around(p: &Particles, reach: f64) -> Self {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for (x, zi) in p.x.iter().zip(&p.z_image) {
+            let c = [x[0], x[1], x[2] + zi];
+            for k in 0..3 {
+                lo[k] = lo[k].min(c[k]);
+                hi[k] = hi[k].max(c[k]);
+            }
         }
+        if p.is_empty() {
+            (lo, hi) = ([0.0; 3], [0.0; 3]);
+        }
+        Self::over(lo, hi, reach)
     }
 
     fn coord(&self, x: f64, k: usize) -> usize {

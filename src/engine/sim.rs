@@ -223,16 +223,10 @@ impl<'c> Sim<'c> {
         self.migrated += moved.particles as u64;
         self.histories_migrated += moved.histories as u64;
         self.halo = halo;
-        let (lo, hi) = self.slabs.range(self.comm.rank());
-        let grid = Grid::new(
-            self.walls.radius,
-            lo - self.reach,
-            hi + self.reach,
-            self.reach,
-        );
-        let (nl, p, skin, law) = (&mut self.nl, &self.p, self.skin, &self.law);
+        let (nl, p, skin, law, reach) = (&mut self.nl, &self.p, self.skin, &self.law, self.reach);
         self.timers.time(Phase::Neighbor, || {
-            nl.build(p, &grid, skin, law);
+            // cells over the particles' bounding box: they grow with the bed, not the drum
+            nl.build(p, &Grid::around(p, reach), skin, law);
             if history {
                 nl.attach_histories(p, &saved);
             }

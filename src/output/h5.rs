@@ -3,7 +3,9 @@
 //! Public layout (read by users' scripts; keep the names):
 //! - `/axial/rotations` (T), `/axial/z` (Z), `/axial/volume_fraction` (T x S x Z),
 //!   `/axial/count` (T x S x Z);
-//! - root attributes `steps`, `rebuilds`, `migrations` (particles moved between ranks);
+//! - root attributes `steps`, `rebuilds`, `migrations` (particles moved between ranks),
+//!   `histories_migrated` (contact histories moved with them), and for a pour fill
+//!   `pour_poured`, `pour_cut_height`, `pour_measured_fill`;
 //! - `/particles/{id, species, diameter, position, velocity, angular_velocity}`, the final
 //!   state sorted by id;
 //! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`.
@@ -154,16 +156,11 @@ impl RunFile {
         Ok(())
     }
 
-    /// Record run statistics as root attributes (`steps`, `rebuilds`, `migrations`).
-    pub fn write_stats(&self, steps: u64, rebuilds: u64, migrations: u64) -> hdf5::Result<()> {
-        for (name, v) in [
-            ("steps", steps),
-            ("rebuilds", rebuilds),
-            ("migrations", migrations),
-        ] {
-            self.file.new_attr::<u64>().create(name)?.write_scalar(&v)?;
-        }
-        Ok(())
+    /// Record a number as a root attribute (run statistics: `steps`, `rebuilds`,
+    /// `migrations`, `histories_migrated`; pour: `pour_poured`, `pour_cut_height`,
+    /// `pour_measured_fill`).
+    pub fn write_number<T: hdf5::H5Type>(&self, name: &str, value: T) -> hdf5::Result<()> {
+        self.file.new_attr::<T>().create(name)?.write_scalar(&value)
     }
 
     /// Close the file and give it its final name.
