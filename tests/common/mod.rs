@@ -47,3 +47,8 @@ pub fn tumbler(args: &[&str]) -> std::process::Output {
 pub fn tmpdir() -> tempfile::TempDir {
     tempfile::tempdir().unwrap()
 }
+
+/// The name an output is written under until complete.
+pub fn tmp_partial(out: &Path) -> PathBuf {
+    tumbler::output::partial_path(out)
+}
