@@ -156,7 +156,9 @@ velocity = [0.0, 0.0, -0.5]
     // restart from that file: the state is taken over exactly
     let again = dir.path().join("again.toml");
     let file_case = text.split("[[init.particle]]").next().unwrap().to_string()
-        + &format!("\n[init.file_marker]\n").replace("[init.file_marker]\n", "");
+        + &"\n[init.file_marker]\n"
+            .to_string()
+            .replace("[init.file_marker]\n", "");
     let file_case = file_case.replace(
         "kind = \"particles\"",
         &format!("kind = \"particles\"\nfile = \"{}\"", out.display()),

@@ -143,6 +143,11 @@ fn history_model_pour_and_drum_are_bit_identical_on_1_2_3_ranks() {
 }
 
 #[test]
+fn rough_wall_drum_is_bit_identical_on_1_2_3_ranks() {
+    assert_identical("rough.toml");
+}
+
+#[test]
 fn spherical_tumbler_is_bit_identical_on_1_2_3_ranks() {
     assert_identical("sphere.toml");
 }

@@ -117,6 +117,18 @@ pub struct Drum {
     /// The end cap at `z = +L/2`.
     #[serde(default)]
     pub cap_high: CapSurface,
+    /// An optional rough curved wall: particles fixed to the turning drum (thesis ch. 3).
+    #[serde(default)]
+    pub rough_wall: Option<RoughWall>,
+}
+
+/// A curved wall roughened by particles fixed to it: rings of spheres centred on the wall
+/// surface, one diameter apart along the axis and around, alternate rings staggered.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoughWall {
+    /// Diameter of the wall particles.
+    pub diameter: f64,
 }
 
 impl Drum {

@@ -66,6 +66,20 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             c.forbidden("drum.ends", &d.ends, "to a sphere");
         }
     }
+    if let Some(rw) = &d.rough_wall {
+        if !(rw.diameter.is_finite() && rw.diameter > 0.0 && rw.diameter < 0.25 * d.diameter) {
+            c.bad(
+                "drum.rough_wall.diameter",
+                format!("must be positive and below D/4, got {}", rw.diameter),
+            );
+        }
+        if d.shape != Shape::Cylinder {
+            c.bad(
+                "drum.rough_wall",
+                "a rough wall lines a cylinder's curved wall; a sphere has none".into(),
+            );
+        }
+    }
     if !d.omega.is_finite() || d.omega == 0.0 {
         c.bad(
             "drum.omega",
@@ -111,7 +125,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 m.restitution,
                 "by the spring-dashpot family",
             );
-            if !e.is_nan() && !(e > 0.0 && e <= 1.0) {
+            if !(e.is_nan() || (e > 0.0 && e <= 1.0)) {
                 c.bad("model.restitution", format!("must be in (0, 1], got {e}"));
             }
             match m.normal {
@@ -144,7 +158,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                     if !y.is_nan() {
                         c.positive("model.youngs_modulus", y);
                     }
-                    if !nu.is_nan() && !(-1.0 < nu && nu < 0.5) {
+                    if !(nu.is_nan() || (-1.0 < nu && nu < 0.5)) {
                         c.bad(
                             "model.poisson_ratio",
                             format!("must be in (-1, 0.5), got {nu}"),
@@ -294,7 +308,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
         }
         InitKind::Pour => {
             let f = c.required("init.fill", i.fill, "by the pour fill");
-            if !f.is_nan() && !(f > 0.0 && f < 1.0) {
+            if !(f.is_nan() || (f > 0.0 && f < 1.0)) {
                 c.bad(
                     "init.fill",
                     format!("must be in (0, 1) (a fraction of the drum volume), got {f}"),
@@ -320,7 +334,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             }
         }
         InitKind::Particles => {
-            if i.file.is_some() == !i.particle.is_empty() {
+            if i.file.is_some() != i.particle.is_empty() {
                 c.bad(
                     "init.file",
                     "give either init.file or [[init.particle]] tables, not both or neither".into(),

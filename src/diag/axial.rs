@@ -68,6 +68,9 @@ impl AxialBins {
         let m = self.ns * self.nz;
         let mut acc = vec![0i64; 2 * m];
         for i in 0..p.n_owned {
+            if crate::physics::rough_wall::is_fixed(p.species[i]) {
+                continue;
+            }
             let idx = p.species[i] as usize * self.nz + self.slice(p.x[i][2]);
             let d = p.diameter[i];
             acc[idx] += 1;

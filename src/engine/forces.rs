@@ -3,6 +3,7 @@
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
+use crate::physics::rough_wall::is_fixed;
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
 /// Counts from one force pass.
@@ -81,6 +82,9 @@ pub fn wall_and_body_forces(
     scale: f64,
 ) {
     for i in 0..p.n_owned {
+        if is_fixed(p.species[i]) {
+            continue;
+        }
         let b = body(p, i, scale);
         let load = walls.load(
             law,

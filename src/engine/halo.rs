@@ -117,7 +117,7 @@ pub fn migrate(
     }
     if received_history {
         // A contact both sides already evaluated arrives as an identical copy: keep one.
-        saved.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        saved.sort_unstable_by_key(|x| (x.0, x.1));
         saved.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
     }
     Migrated {

@@ -11,6 +11,7 @@
 
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
+use crate::physics::rough_wall::is_fixed;
 use crate::physics::ContactLaw;
 
 /// Histories of the contacts in force, keyed and sorted by `(id_a, id_b)`, `id_a < id_b`.
@@ -149,6 +150,10 @@ impl NeighborList {
                             // computed where the ghost is owned (which may be this rank, for a
                             // periodic image of its own particle), with the same arithmetic.
                             if j < p.n_owned && p.id[i] > p.id[j] {
+                                continue;
+                            }
+                            // wall particles do not touch each other
+                            if is_fixed(p.species[i]) && is_fixed(p.species[j]) {
                                 continue;
                             }
                             let xj = p.x[j];

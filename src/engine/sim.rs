@@ -9,6 +9,7 @@ use crate::case::{Case, Shape};
 use crate::comm::Comm;
 use crate::particles::{ParticleState, Particles};
 use crate::physics::integrate::{drift, half_kick};
+use crate::physics::rough_wall::{is_fixed, RoughWall};
 use crate::physics::{law, ContactLaw, DrumWalls, Materials};
 
 /// Why a decomposition cannot be used.
@@ -32,6 +33,8 @@ pub struct Sim<'c> {
     pub mat: Materials,
     /// The drum's walls.
     pub walls: DrumWalls,
+    /// The rough wall's particles, if the curved wall has them.
+    pub rough: Option<RoughWall>,
     /// The slab decomposition.
     pub slabs: Slabs,
     /// Owned particles, then ghosts.
@@ -100,12 +103,23 @@ impl<'c> Sim<'c> {
         for s in initial.iter().filter(|s| slabs.owner(s.x[2]) == me) {
             p.push_owned(s, &mat);
         }
+        let rough = RoughWall::of(case);
+        if let Some(rw) = &rough {
+            for s in rw
+                .particles(case.drum.omega)
+                .iter()
+                .filter(|s| slabs.owner(s.x[2]) == me)
+            {
+                p.push_owned(s, &mat);
+            }
+        }
         let mut sim = Sim {
             comm,
             case: case.clone(),
             law: ContactLaw::new(case),
             mat,
             walls,
+            rough,
             slabs,
             p,
             halo: Halo::default(),
@@ -167,6 +181,7 @@ impl<'c> Sim<'c> {
             );
             drift(n, dt, &mut p.x, &p.v, period);
         });
+        self.turn_rough_wall(self.walls.omega * (self.step + 1) as f64 * dt);
         let moved = self.timers.time(Phase::Comm, || {
             self.comm.max_f64(self.nl.max_displacement(&self.p, period))
         });
@@ -195,6 +210,20 @@ impl<'c> Sim<'c> {
             );
         });
         self.step += 1;
+    }
+
+    /// Put the rough wall's particles where the drum has carried them (angle `angle`).
+    fn turn_rough_wall(&mut self, angle: f64) {
+        let Some(rw) = self.rough else { return };
+        let omega = self.walls.omega;
+        for i in 0..self.p.n_owned {
+            if is_fixed(self.p.species[i]) {
+                let (x, v) = rw.place(self.p.id[i], angle, omega);
+                self.p.x[i] = x;
+                self.p.v[i] = v;
+                self.p.w[i] = [0.0, 0.0, omega];
+            }
+        }
     }
 
     /// Migrate particles that left the slab, rebuild the halo and the pair list.
@@ -254,7 +283,9 @@ impl<'c> Sim<'c> {
     pub fn remove_where(&mut self, cut: impl Fn(&ParticleState) -> bool) {
         let saved = self.saved_histories();
         self.p.clear_ghosts();
-        let leave: Vec<bool> = (0..self.p.n_owned).map(|i| cut(&self.p.state(i))).collect();
+        let leave: Vec<bool> = (0..self.p.n_owned)
+            .map(|i| !is_fixed(self.p.species[i]) && cut(&self.p.state(i)))
+            .collect();
         self.p.remove_owned(&leave);
         self.rebuild_with(saved);
         self.forces();
@@ -276,7 +307,7 @@ impl<'c> Sim<'c> {
         let n = ((self.slabs.length / width).floor() as usize).max(1);
         let z0 = -0.5 * self.slabs.length;
         let mut top = vec![f64::NEG_INFINITY; n];
-        for i in 0..self.p.n_owned {
+        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             let k = (((self.p.x[i][2] - z0) / self.slabs.length * n as f64) as usize).min(n - 1);
             top[k] = top[k].max(self.p.x[i][1]);
         }
@@ -285,15 +316,18 @@ impl<'c> Sim<'c> {
         filled.iter().sum::<f64>() / filled.len().max(1) as f64
     }
 
-    /// Total number of particles over all ranks.
+    /// Total number of mobile particles over all ranks.
     pub fn global_count(&self) -> u64 {
-        self.comm.sum_u64(self.p.n_owned as u64)
+        let mobile = (0..self.p.n_owned)
+            .filter(|&i| !is_fixed(self.p.species[i]))
+            .count();
+        self.comm.sum_u64(mobile as u64)
     }
 
     /// Every particle's state, sorted by id, on rank 0 (`None` elsewhere).
     pub fn gather_sorted(&self) -> Option<Vec<ParticleState>> {
         let mut buf = Vec::with_capacity(self.p.n_owned * crate::particles::PACKED_WORDS);
-        for i in 0..self.p.n_owned {
+        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             self.p.pack(i, &mut buf);
         }
         let all = self.comm.gather_f64(&buf)?;

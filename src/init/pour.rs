@@ -136,7 +136,13 @@ pub fn points(case: &Case) -> Result<(Vec<ParticleState>, f64), String> {
     };
     let mut placed: Vec<ParticleState> = Vec::with_capacity(labels.len());
     for (k, (&s, &d)) in labels.iter().zip(&diameters).enumerate() {
-        let room = radius - 0.5 * d; // at full size no wall overlap
+        // at full size no wall overlap (a rough wall's particles stick out by half their size)
+        let rough = case
+            .drum
+            .rough_wall
+            .as_ref()
+            .map_or(0.0, |r| 0.5 * r.diameter);
+        let room = radius - 0.5 * d - rough;
         let mut found = None;
         for _ in 0..10_000 {
             let x = [

@@ -103,9 +103,16 @@ impl Materials {
         }
     }
 
-    /// Friction between species `a` and `b`.
+    /// Friction between species `a` and `b` (a rough-wall particle counts as the curved wall).
     #[inline]
     pub fn pair(&self, a: u8, b: u8) -> Friction {
+        use super::rough_wall::is_fixed;
+        if is_fixed(b) {
+            return self.wall(a, Wall::Curved);
+        }
+        if is_fixed(a) {
+            return self.wall(b, Wall::Curved);
+        }
         self.pair[a as usize * self.n + b as usize]
     }
 

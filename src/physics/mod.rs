@@ -6,6 +6,7 @@ pub mod integrate;
 pub mod law;
 pub mod materials;
 pub mod rapaport;
+pub mod rough_wall;
 pub mod spring_dashpot;
 pub mod walls;
 

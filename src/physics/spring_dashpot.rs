@@ -78,6 +78,7 @@ impl SpringDashpot {
     }
 
     /// Tangential force from the sliding velocity `v_s`, updating the history `hist`.
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn tangential(
         &self,

@@ -29,6 +29,8 @@ pub fn mpirun(n: usize, args: &[&str]) -> std::process::Output {
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+        // more ranks than cores: let waiting ranks yield instead of spinning
+        .env("OMPI_MCA_mpi_yield_when_idle", "1")
         .output()
         .expect("mpirun could not be started (is openmpi-bin installed?)")
 }
