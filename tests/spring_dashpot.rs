@@ -228,3 +228,40 @@ fn frictionless_cap_exerts_no_tangential_force() {
         }
     }
 }
+
+#[test]
+fn hertz_collision_lasts_as_hertz_theory_says() {
+    // Without damping, a Hertz collision is elastic and lasts
+    // 2.868 (m_eff^2 / (R E*^2 v))^(1/5), with E* = Y / (2 (1 - nu^2)) for equal materials
+    // and R the effective radius (eq. 2.13 is F = 4/3 E* sqrt(R) a^(3/2)).
+    let (y, nu) = (1.0e7, 0.3);
+    for (ratio, v) in [(1.0, 0.5), (2.0, 0.2)] {
+        let case = sd_case(
+            0.9,
+            "viscous",
+            &[
+                "model.normal=\"hertz\"",
+                &format!("model.youngs_modulus={y}"),
+                &format!("model.poisson_ratio={nu}"),
+                "model.hertz_damping=0.0",
+                "run.dt=2e-6",
+            ],
+        );
+        let (d1, d2) = (0.002, 0.002 * ratio);
+        let a = ball(0, d1, [0.0, 0.0, -0.5 * (0.5 * (d1 + d2) + 1e-5)], [0.0, 0.0, 0.5 * v]);
+        let b = ball(1, d2, [0.0, 0.0, 0.5 * (0.5 * (d1 + d2) + 1e-5)], [0.0, 0.0, -0.5 * v]);
+        let comm = SerialComm;
+        let mut sim = Sim::new(&case, &comm, &[a, b]).unwrap();
+        let mass = |d: f64| 2500.0 * std::f64::consts::PI / 6.0 * d * d * d;
+        let m_eff = mass(d1) * mass(d2) / (mass(d1) + mass(d2));
+        let r_eff = 0.25 * d1 * d2 / (0.5 * (d1 + d2));
+        let e_star = y / (2.0 * (1.0 - nu * nu));
+        let t_theory = 2.868 * (m_eff * m_eff / (r_eff * e_star * e_star * v)).powf(0.2);
+        let k = |s: &Sim, id: u64| s.p.id.iter().position(|&x| x == id).unwrap();
+        let gap = |s: &Sim| (s.p.x[k(s, 1)][2] - s.p.x[k(s, 0)][2]) - 0.5 * (d1 + d2);
+        let vn = |s: &Sim| s.p.v[k(s, 0)][2] - s.p.v[k(s, 1)][2];
+        let (e_got, t_got) = collide(&mut sim, gap, vn);
+        assert!((e_got - 1.0).abs() < 0.005, "undamped Hertz restitution {e_got}");
+        assert!((t_got - t_theory).abs() < 0.03 * t_theory, "Hertz contact lasted {t_got}, theory {t_theory}");
+    }
+}
