@@ -30,6 +30,12 @@ enum Command {
         /// Replace the output file if it exists.
         #[arg(long)]
         overwrite: bool,
+        /// Continue from a checkpoint (`NAME.ckpt.h5`), appending to the output.
+        #[arg(long, value_name = "CHECKPOINT")]
+        restart: Option<PathBuf>,
+        /// Restart even if the checkpoint's drum, model, species or time step differ.
+        #[arg(long)]
+        allow_different_case: bool,
     },
     /// Validate a case and print its derived quantities.
     Check {
@@ -78,6 +84,8 @@ fn main() -> ExitCode {
             output,
             set,
             overwrite,
+            restart,
+            allow_different_case,
         } => {
             let Some(universe) = mpi::initialize() else {
                 eprintln!("error: MPI could not be initialised");
@@ -98,7 +106,13 @@ fn main() -> ExitCode {
                 let stem = case.file_stem().map(|s| s.to_owned()).unwrap_or_default();
                 PathBuf::from(stem).with_extension("h5")
             });
-            match run(&lc, &comm, &RunOptions { output, overwrite }) {
+            let opts = RunOptions {
+                output,
+                overwrite,
+                restart,
+                allow_different_case,
+            };
+            match run(&lc, &comm, &opts) {
                 Ok(_) => ExitCode::SUCCESS,
                 Err(e) => {
                     if root {

@@ -5,7 +5,7 @@ use crate::physics::materials::WALLS;
 use crate::physics::Materials;
 
 /// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`]).
-pub const PACKED_WORDS: usize = 12 + 3 * WALLS;
+pub const PACKED_WORDS: usize = 18 + 3 * WALLS;
 /// Number of `f64` words of a ghost update (position, velocity, angular velocity).
 pub const UPDATE_WORDS: usize = 9;
 
@@ -57,6 +57,10 @@ pub struct ParticleState {
     pub w: [f64; 3],
     /// Tangential history with each wall.
     pub wall_hist: [[f64; 3]; WALLS],
+    /// Force of the last evaluation (what the next half kick uses).
+    pub f: [f64; 3],
+    /// Torque of the last evaluation.
+    pub t: [f64; 3],
 }
 
 impl ParticleState {
@@ -70,6 +74,8 @@ impl ParticleState {
             v,
             w,
             wall_hist: [[0.0; 3]; WALLS],
+            f: [0.0; 3],
+            t: [0.0; 3],
         }
     }
 }
@@ -88,17 +94,23 @@ impl Particles {
     /// Append a particle (owned if no ghosts exist yet; callers keep owned ones first).
     pub fn push(&mut self, p: &ParticleState, mat: &Materials, z_image: f64) {
         let m = mat.mass(p.diameter);
+        // particles fixed to the drum have infinite mass: kicks leave them alone and a
+        // contact with one has the mobile particle's mass as m_eff, as with a wall
+        let fixed = crate::physics::rough_wall::is_fixed(p.species);
         self.id.push(p.id);
         self.species.push(p.species);
         self.diameter.push(p.diameter);
-        self.inv_mass.push(1.0 / m);
-        self.inv_inertia
-            .push(1.0 / (0.1 * m * p.diameter * p.diameter));
+        self.inv_mass.push(if fixed { 0.0 } else { 1.0 / m });
+        self.inv_inertia.push(if fixed {
+            0.0
+        } else {
+            1.0 / (0.1 * m * p.diameter * p.diameter)
+        });
         self.x.push(p.x);
         self.v.push(p.v);
         self.w.push(p.w);
-        self.f.push([0.0; 3]);
-        self.t.push([0.0; 3]);
+        self.f.push(p.f);
+        self.t.push(p.t);
         self.wall_hist.push(p.wall_hist);
         self.z_image.push(z_image);
     }
@@ -120,6 +132,8 @@ impl Particles {
             v: self.v[i],
             w: self.w[i],
             wall_hist: self.wall_hist[i],
+            f: self.f[i],
+            t: self.t[i],
         }
     }
 
@@ -181,6 +195,8 @@ impl Particles {
         for h in &self.wall_hist[i] {
             buf.extend_from_slice(h);
         }
+        buf.extend_from_slice(&self.f[i]);
+        buf.extend_from_slice(&self.t[i]);
     }
 
     /// Append particle `i`'s moving state (position, velocity, spin) to a message buffer.
@@ -205,6 +221,7 @@ pub fn unpack(rec: &[f64]) -> ParticleState {
     for (k, h) in wall_hist.iter_mut().enumerate() {
         *h = v3(12 + 3 * k);
     }
+    let tail = 12 + 3 * WALLS;
     ParticleState {
         id: rec[0] as u64,
         species: rec[1] as u8,
@@ -213,5 +230,7 @@ pub fn unpack(rec: &[f64]) -> ParticleState {
         v: v3(6),
         w: v3(9),
         wall_hist,
+        f: v3(tail),
+        t: v3(tail + 3),
     }
 }

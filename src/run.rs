@@ -1,10 +1,11 @@
 //! A whole run: initial state, the step loop with sampling and progress, and the outputs.
 
-use crate::case::LoadedCase;
+use crate::case::{parse_case, Case, LoadedCase};
 use crate::comm::Comm;
 use crate::diag::AxialBins;
 use crate::engine::{Phase, Sim, PHASES};
 use crate::init::{initial_particles, pour};
+use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
 use crate::output::{spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -16,6 +17,10 @@ pub struct RunOptions {
     pub output: PathBuf,
     /// Replace an existing output file.
     pub overwrite: bool,
+    /// Continue from this checkpoint (appending to `output`).
+    pub restart: Option<PathBuf>,
+    /// Accept a checkpoint whose drum, model, species or time step differ from the case.
+    pub allow_different_case: bool,
 }
 
 /// What a finished run reports.
@@ -49,26 +54,66 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
 pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSummary, String> {
     let case = &lc.case;
     let root = comm.rank() == 0;
-    let (initial, start_scale) = initial_particles(case)?;
-    let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
-    drop(initial);
+    let big = case
+        .species
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.diameter.total_cmp(&b.1.diameter))
+        .map(|(k, _)| k)
+        .unwrap_or(0);
     let mut pour_report = None;
-    if case.init.kind == crate::case::InitKind::Pour {
-        let t0 = Instant::now();
-        let r = pour::grow_settle_cut(&mut sim, case, start_scale)?;
-        if root {
-            log::info!(
-                "pour: {} particles poured, {} kept below the cut at y = {:.5} (fill {:.4} requested, {:.4} measured from the bed top) in {:.1} s",
-                r.poured,
-                r.kept,
-                r.cut_height,
-                case.init.fill.unwrap_or(0.0),
-                r.measured_fill,
-                t0.elapsed().as_secs_f64()
-            );
+    let (mut sim, resumed_samples) = match &opts.restart {
+        Some(path) => {
+            let ck = checkpoint::read(path);
+            if !comm.all_ok(ck.is_ok()) {
+                return Err(ck
+                    .err()
+                    .unwrap_or_else(|| "another rank could not read the checkpoint".into()));
+            }
+            let ck = ck?;
+            check_compatible(&ck.case_text, case, opts.allow_different_case, path)?;
+            let sim = Sim::resume(case, comm, &ck.particles, ck.histories, ck.step)
+                .map_err(|e| e.to_string())?;
+            if root {
+                log::info!(
+                    "restart from {} at step {} ({:.3} rotations)",
+                    path.display(),
+                    ck.step,
+                    sim.rotations()
+                );
+            }
+            (sim, Some(ck.samples))
         }
-        pour_report = Some(r);
-    }
+        None => {
+            // every rank reads the initial state (a file, say): stop together if one cannot
+            let init = initial_particles(case);
+            if !comm.all_ok(init.is_ok()) {
+                return Err(init
+                    .err()
+                    .unwrap_or_else(|| "another rank could not read the initial state".into()));
+            }
+            let (initial, start_scale) = init?;
+            let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
+            drop(initial);
+            if case.init.kind == crate::case::InitKind::Pour {
+                let t0 = Instant::now();
+                let r = pour::grow_settle_cut(&mut sim, case, start_scale)?;
+                if root {
+                    log::info!(
+                        "pour: {} particles poured, {} kept below the cut at y = {:.5} (fill {:.4} requested, {:.4} measured from the bed top) in {:.1} s",
+                        r.poured,
+                        r.kept,
+                        r.cut_height,
+                        case.init.fill.unwrap_or(0.0),
+                        r.measured_fill,
+                        t0.elapsed().as_secs_f64()
+                    );
+                }
+                pour_report = Some(r);
+            }
+            (sim, None)
+        }
+    };
     let n_total = sim.global_count();
 
     let bins = AxialBins::new(
@@ -79,25 +124,38 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
     );
     // Open the output on rank 0 only once everything else is known to be fine.
     let mut file = None;
+    let mut columns: Vec<Vec<f64>> = Vec::new();
     let mut open_err = String::new();
     if root {
-        if opts.output.exists() && !opts.overwrite {
-            open_err = format!(
-                "output file {} exists; pass --overwrite to replace it or -o to choose another",
-                opts.output.display()
-            );
-        } else {
-            let meta = RunMeta {
-                case_text: lc.text.clone(),
-                ranks: comm.size(),
-                species: case.species.iter().map(|s| s.name.clone()).collect(),
-            };
-            match RunFile::create(&opts.output, &meta, &bins.centres()) {
-                Ok(f) => file = Some(f),
-                Err(e) => {
-                    open_err = format!("cannot create output file {}: {e}", opts.output.display())
-                }
+        let meta = RunMeta {
+            case_text: lc.text.clone(),
+            ranks: comm.size(),
+            species: case.species.iter().map(|s| s.name.clone()).collect(),
+        };
+        let opened = match resumed_samples {
+            Some(samples)
+                if opts.output.exists() || crate::output::partial_path(&opts.output).exists() =>
+            {
+                RunFile::reopen(&opts.output, samples as usize, big).map(|(f, c)| {
+                    columns = c;
+                    f
+                })
             }
+            _ if opts.output.exists() && !opts.overwrite => {
+                open_err = format!(
+                    "output file {} exists; pass --overwrite to replace it or -o to choose another",
+                    opts.output.display()
+                );
+                Err(hdf5::Error::from("exists"))
+            }
+            _ => RunFile::create(&opts.output, &meta, &bins.centres()),
+        };
+        match opened {
+            Ok(f) => file = Some(f),
+            Err(e) if open_err.is_empty() => {
+                open_err = format!("cannot open output file {}: {e}", opts.output.display())
+            }
+            Err(_) => {}
         }
     }
     if !comm.all_ok(open_err.is_empty()) {
@@ -108,13 +166,6 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         });
     }
 
-    let big = case
-        .species
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.diameter.total_cmp(&b.1.diameter))
-        .map(|(k, _)| k)
-        .unwrap_or(0);
     let (omega, dt) = (case.drum.omega, case.dt());
     let total = steps_for(case.run.rotations, omega, dt);
     let every = steps_for(case.output.sample_every, omega, dt).max(1);
@@ -131,7 +182,6 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         );
     }
 
-    let mut columns: Vec<Vec<f64>> = Vec::new();
     let mut sample = |sim: &mut Sim, file: &mut Option<RunFile>| -> Result<(), String> {
         let s = bins.gather(&sim.p, comm);
         let mut ok = true;
@@ -157,14 +207,37 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         }
     };
 
-    sample(&mut sim, &mut file)?;
+    // Samples on the schedule (every `every` steps) are what a checkpoint counts; a final
+    // sample off the schedule is written but dropped again by a restart.
+    let mut scheduled = match resumed_samples {
+        Some(k) => k,
+        None => {
+            sample(&mut sim, &mut file)?;
+            1
+        }
+    };
+    let ck_every = case
+        .output
+        .checkpoint_every
+        .map(|r| steps_for(r, omega, dt).max(1));
+    let ck_path = checkpoint_path(&opts.output);
     let start = Instant::now();
-    let mut last_report = (Instant::now(), 0u64);
+    let first_step = sim.step;
+    let mut last_report = (Instant::now(), sim.step);
     while sim.step < total {
         sim.step();
-        if sim.step % every == 0 || sim.step == total {
+        let on_schedule = sim.step % every == 0;
+        if on_schedule || sim.step == total {
             let t0 = Instant::now();
             sample(&mut sim, &mut file)?;
+            if on_schedule {
+                scheduled += 1;
+            }
+            sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
+        }
+        if ck_every.is_some_and(|k| sim.step % k == 0) && sim.step < total {
+            let t0 = Instant::now();
+            save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
         if root && sim.step % progress_every == 0 {
@@ -183,6 +256,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         }
     }
     let seconds = start.elapsed().as_secs_f64();
+    save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
 
     let states = sim.gather_sorted();
     let migrations = comm.sum_u64(sim.migrated);
@@ -215,11 +289,12 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         return Err(write_err);
     }
 
+    let steps = sim.step - first_step;
     let summary = RunSummary {
         particles: n_total,
-        steps: sim.step,
+        steps,
         seconds,
-        particle_steps_per_second: n_total as f64 * sim.step as f64 / seconds.max(1e-12),
+        particle_steps_per_second: n_total as f64 * steps as f64 / seconds.max(1e-12),
     };
     if root {
         log::info!(
@@ -248,4 +323,74 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
         );
     }
     Ok(summary)
+}
+
+/// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes).
+fn save_checkpoint(sim: &Sim, case_text: &str, samples: u64, path: &Path) -> Result<(), String> {
+    let particles = sim.gather_sorted();
+    let histories = sim.gather_histories();
+    let mut err = String::new();
+    if let (Some(particles), Some(histories)) = (particles, histories) {
+        let ck = Checkpoint {
+            case_text: case_text.to_string(),
+            step: sim.step,
+            samples,
+            particles,
+            histories,
+        };
+        if let Err(e) = checkpoint::write(path, &ck) {
+            err = e;
+        }
+    }
+    if sim.comm().all_ok(err.is_empty()) {
+        Ok(())
+    } else if err.is_empty() {
+        Err("rank 0 could not write the checkpoint".into())
+    } else {
+        Err(err)
+    }
+}
+
+/// Refuse a checkpoint from another drum, model, species set or time step (unless `allow`).
+fn check_compatible(text: &str, case: &Case, allow: bool, path: &Path) -> Result<(), String> {
+    let old = parse_case(text, "checkpoint").map_err(|e| {
+        format!(
+            "checkpoint {}: its case no longer parses: {}",
+            path.display(),
+            e.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    })?;
+    let differ: Vec<&str> = [
+        (
+            "drum",
+            format!("{:?}", old.drum) != format!("{:?}", case.drum),
+        ),
+        (
+            "model",
+            format!("{:?}", old.model) != format!("{:?}", case.model),
+        ),
+        (
+            "species",
+            format!("{:?}", old.species) != format!("{:?}", case.species),
+        ),
+        ("run.dt", old.dt() != case.dt()),
+    ]
+    .into_iter()
+    .filter_map(|(k, d)| d.then_some(k))
+    .collect();
+    if differ.is_empty() || allow {
+        if !differ.is_empty() {
+            log::warn!("restarting with a different {}", differ.join(", "));
+        }
+        Ok(())
+    } else {
+        Err(format!(
+            "checkpoint {} comes from a case with a different {}; pass --allow-different-case to restart anyway",
+            path.display(),
+            differ.join(", ")
+        ))
+    }
 }

@@ -189,12 +189,26 @@ fn overlapping_or_outside_particles_are_refused() {
             .replace("fill = 0.3\n", "")
             .replace("settle_time = 0.2\n", "")
             + "\n[[init.particle]]\nspecies = 0\ndiameter = 0.002\nposition = [0.0, -0.01, 0.0]\n"
-            + &format!("\n[[init.particle]]\nspecies = 0\ndiameter = 0.002\nposition = {p2}\n")
+            + &format!("\n[[init.particle]]\nspecies = 0\n{p2}\n")
     };
     for (p2, why) in [
-        ("[0.0, -0.01, 0.0019]", "overlap by 5.00 %"),
-        ("[0.0, -0.0145, 0.01]", "is not inside the drum"),
-        ("[0.0, 0.0, 0.0199]", "is not inside the drum"),
+        (
+            "diameter = 0.002\nposition = [0.0, -0.01, 0.0019]",
+            "overlap by 5.00 %",
+        ),
+        (
+            "diameter = 0.002\nposition = [0.0, -0.0145, 0.01]",
+            "is not inside the drum",
+        ),
+        (
+            "diameter = 0.002\nposition = [0.0, 0.0, 0.0199]",
+            "is not inside the drum",
+        ),
+        // species 0 is 2 mm with s.d. 0.1: at most 2.6 mm
+        (
+            "diameter = 0.0031\nposition = [0.0, 0.005, 0.0]",
+            "larger than its species allows",
+        ),
     ] {
         let case = dir.path().join("bad.toml");
         std::fs::write(&case, make(p2)).unwrap();

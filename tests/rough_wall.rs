@@ -50,3 +50,61 @@ fn rough_wall_drags_the_bed_where_a_frictionless_smooth_wall_cannot() {
         "frictionless smooth wall: bed turned by {a_smooth} degrees"
     );
 }
+
+#[test]
+fn wall_particles_have_infinite_mass() {
+    // A bead hitting a wall particle head-on: with the wall particle's mass infinite the
+    // contact has m_eff = m and lasts exactly t_c; were the wall particle an ordinary mass
+    // the bead would feel half the force and the contact would last sqrt(2) longer.
+    use tumbler::comm::SerialComm;
+    use tumbler::engine::Sim;
+    use tumbler::particles::ParticleState;
+    use tumbler::physics::rough_wall::{RoughWall, FIRST_ID};
+    let case = common::case_with(
+        "rough.toml",
+        &[
+            "model.gravity=0.0",
+            "drum.omega=1e-9",
+            "model.restitution=0.9",
+        ],
+    );
+    let rw = RoughWall::of(&case).unwrap();
+    let (x_wall, _) = rw.place(FIRST_ID, 0.0, 0.0);
+    let (d, dw) = (0.002, rw.diameter);
+    let touch = 0.5 * (d + dw);
+    let bead = ParticleState::new(
+        0,
+        0,
+        d,
+        [x_wall[0] - touch - 1e-4, 0.0, x_wall[2]],
+        [0.2, 0.0, 0.0],
+        [0.0; 3],
+    );
+    let comm = SerialComm;
+    let mut sim = Sim::new(&case, &comm, &[bead]).unwrap();
+    let k = |s: &Sim| s.p.id.iter().position(|&x| x == 0).unwrap();
+    let (mut start, mut end, mut prev) = (None, None, f64::MAX);
+    for n in 0..20_000 {
+        sim.step();
+        let gap = x_wall[0] - sim.p.x[k(&sim)][0] - touch;
+        let t = (n + 1) as f64 * sim.dt;
+        if start.is_none() && gap < 0.0 {
+            start = Some(t - sim.dt * gap / (gap - prev));
+        } else if start.is_some() && gap >= 0.0 {
+            end = Some(t - sim.dt * gap / (gap - prev));
+            break;
+        }
+        prev = gap;
+    }
+    let tc = case.model.collision_time.unwrap();
+    let lasted = end.unwrap() - start.unwrap();
+    assert!(
+        (lasted - tc).abs() < 0.03 * tc,
+        "contact with a wall particle lasted {lasted}, t_c = {tc}"
+    );
+    let e = -sim.p.v[k(&sim)][0] / 0.2;
+    assert!(
+        (e - 0.9).abs() < 0.01 * 0.9,
+        "restitution against a wall particle {e}"
+    );
+}

@@ -248,8 +248,18 @@ fn hertz_collision_lasts_as_hertz_theory_says() {
             ],
         );
         let (d1, d2) = (0.002, 0.002 * ratio);
-        let a = ball(0, d1, [0.0, 0.0, -0.5 * (0.5 * (d1 + d2) + 1e-5)], [0.0, 0.0, 0.5 * v]);
-        let b = ball(1, d2, [0.0, 0.0, 0.5 * (0.5 * (d1 + d2) + 1e-5)], [0.0, 0.0, -0.5 * v]);
+        let a = ball(
+            0,
+            d1,
+            [0.0, 0.0, -0.5 * (0.5 * (d1 + d2) + 1e-5)],
+            [0.0, 0.0, 0.5 * v],
+        );
+        let b = ball(
+            1,
+            d2,
+            [0.0, 0.0, 0.5 * (0.5 * (d1 + d2) + 1e-5)],
+            [0.0, 0.0, -0.5 * v],
+        );
         let comm = SerialComm;
         let mut sim = Sim::new(&case, &comm, &[a, b]).unwrap();
         let mass = |d: f64| 2500.0 * std::f64::consts::PI / 6.0 * d * d * d;
@@ -261,7 +271,13 @@ fn hertz_collision_lasts_as_hertz_theory_says() {
         let gap = |s: &Sim| (s.p.x[k(s, 1)][2] - s.p.x[k(s, 0)][2]) - 0.5 * (d1 + d2);
         let vn = |s: &Sim| s.p.v[k(s, 0)][2] - s.p.v[k(s, 1)][2];
         let (e_got, t_got) = collide(&mut sim, gap, vn);
-        assert!((e_got - 1.0).abs() < 0.005, "undamped Hertz restitution {e_got}");
-        assert!((t_got - t_theory).abs() < 0.03 * t_theory, "Hertz contact lasted {t_got}, theory {t_theory}");
+        assert!(
+            (e_got - 1.0).abs() < 0.005,
+            "undamped Hertz restitution {e_got}"
+        );
+        assert!(
+            (t_got - t_theory).abs() < 0.03 * t_theory,
+            "Hertz contact lasted {t_got}, theory {t_theory}"
+        );
     }
 }

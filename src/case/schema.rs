@@ -411,6 +411,9 @@ pub struct Output {
     /// Interval between progress messages, in rotations.
     #[serde(default = "default_progress_every")]
     pub progress_every: f64,
+    /// Interval between checkpoints, in rotations (one is always written at the end).
+    #[serde(default)]
+    pub checkpoint_every: Option<f64>,
 }
 
 fn default_sample_every() -> f64 {
@@ -426,6 +429,7 @@ impl Default for Output {
             sample_every: default_sample_every(),
             slice_width: None,
             progress_every: default_progress_every(),
+            checkpoint_every: None,
         }
     }
 }

@@ -373,6 +373,9 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
     let o = &case.output;
     c.positive("output.sample_every", o.sample_every);
     c.positive("output.progress_every", o.progress_every);
+    if let Some(k) = o.checkpoint_every {
+        c.positive("output.checkpoint_every", k);
+    }
     if let Some(w) = o.slice_width {
         if !(w.is_finite() && w > 0.0 && w <= d.axial_length()) {
             c.bad(

@@ -214,7 +214,11 @@ impl NeighborList {
             if let Some(l) = period {
                 dz = min_image(dz, l);
             }
-            m2 = m2.max(dx * dx + dy * dy + dz * dz);
+            let d2 = dx * dx + dy * dy + dz * dz;
+            if !d2.is_finite() {
+                return f64::NAN;
+            }
+            m2 = m2.max(d2);
         }
         m2.sqrt()
     }

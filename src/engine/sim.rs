@@ -75,6 +75,35 @@ impl<'c> Sim<'c> {
         comm: &'c dyn Comm,
         initial: &[ParticleState],
     ) -> Result<Self, DecompositionError> {
+        let mut sim = Self::assemble(case, comm, initial)?;
+        sim.rebuild();
+        sim.forces();
+        Ok(sim)
+    }
+
+    /// Continue a run from a checkpoint's particles (with their last forces), contact
+    /// histories and step, on this communicator's ranks; the next `step()` is the one the
+    /// interrupted run would have taken.
+    pub fn resume(
+        case: &Case,
+        comm: &'c dyn Comm,
+        particles: &[ParticleState],
+        histories: SavedHistory,
+        step: u64,
+    ) -> Result<Self, DecompositionError> {
+        let mut sim = Self::assemble(case, comm, particles)?;
+        sim.step = step;
+        sim.turn_rough_wall(sim.walls.omega * step as f64 * sim.dt);
+        sim.rebuild_with(histories);
+        Ok(sim)
+    }
+
+    /// The rank's particles and machinery, before any list or force.
+    fn assemble(
+        case: &Case,
+        comm: &'c dyn Comm,
+        initial: &[ParticleState],
+    ) -> Result<Self, DecompositionError> {
         let mat = Materials::new(case);
         let periodic = case.drum.periodic();
         let length = case.drum.axial_length();
@@ -113,7 +142,7 @@ impl<'c> Sim<'c> {
                 p.push_owned(s, &mat);
             }
         }
-        let mut sim = Sim {
+        let sim = Sim {
             comm,
             case: case.clone(),
             law: ContactLaw::new(case),
@@ -137,8 +166,6 @@ impl<'c> Sim<'c> {
             contacts: 0,
             max_overlap: 0.0,
         };
-        sim.rebuild();
-        sim.forces();
         Ok(sim)
     }
 
@@ -166,50 +193,60 @@ impl<'c> Sim<'c> {
     pub fn step(&mut self) {
         let dt = self.dt;
         let period = self.period();
-        let n = self.p.n_owned;
-        let p = &mut self.p;
-        self.timers.time(Phase::Integrate, || {
-            half_kick(
-                n,
-                0.5 * dt,
-                &mut p.v,
-                &mut p.w,
-                &p.f,
-                &p.t,
-                &p.inv_mass,
-                &p.inv_inertia,
-            );
-            drift(n, dt, &mut p.x, &p.v, period);
-        });
+        self.half_kick();
+        let (n, p) = (self.p.n_owned, &mut self.p);
+        self.timers
+            .time(Phase::Integrate, || drift(n, dt, &mut p.x, &p.v, period));
         self.turn_rough_wall(self.walls.omega * (self.step + 1) as f64 * dt);
+        // A non-finite position anywhere is carried by the maximum (as infinity) so that
+        // every rank stops together with the same message.
         let moved = self.timers.time(Phase::Comm, || {
-            self.comm.max_f64(self.nl.max_displacement(&self.p, period))
+            let m = self.nl.max_displacement(&self.p, period);
+            self.comm
+                .max_f64(if m.is_nan() { f64::INFINITY } else { m })
         });
+        if moved.is_infinite() {
+            panic!(
+                "a particle position became infinite or NaN at step {}: the time step is too large \
+                 for the contact stiffness or damping (see `tumbler check`)",
+                self.step
+            );
+        }
         // A hair below half the skin, so that pairs listed at exactly the list range on one
         // rank and not on another (last-bit differences of periodic images) never touch.
         if 2.0 * moved > self.skin * (1.0 - 1e-9) {
             self.rebuild();
         } else {
-            let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
-            self.timers
-                .time(Phase::Comm, || halo::update_ghosts(p, halo, slabs, comm));
+            self.update_ghosts();
         }
         self.forces();
-        // Migration may have changed the owned count.
-        let (n, p) = (self.p.n_owned, &mut self.p);
+        self.half_kick();
+        self.step += 1;
+    }
+
+    /// `v += dt/2 F/m`, `w += dt/2 T/I` for the owned particles (whose number migration may
+    /// have changed since the last kick).
+    fn half_kick(&mut self) {
+        let (n, h, p) = (self.p.n_owned, 0.5 * self.dt, &mut self.p);
         self.timers.time(Phase::Integrate, || {
             half_kick(
                 n,
-                0.5 * dt,
+                h,
                 &mut p.v,
                 &mut p.w,
                 &p.f,
                 &p.t,
                 &p.inv_mass,
                 &p.inv_inertia,
-            );
+            )
         });
-        self.step += 1;
+    }
+
+    /// Refresh the ghosts' positions, velocities and spins from their owners.
+    fn update_ghosts(&mut self) {
+        let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
+        self.timers
+            .time(Phase::Comm, || halo::update_ghosts(p, halo, slabs, comm));
     }
 
     /// Put the rough wall's particles where the drum has carried them (angle `angle`).
@@ -264,9 +301,15 @@ impl<'c> Sim<'c> {
     }
 
     fn forces(&mut self) {
+        self.forces_advancing(true);
+    }
+
+    /// The force pass; `advance = false` recomputes the forces of the current instant
+    /// without adding another step's sliding to the tangential histories.
+    fn forces_advancing(&mut self, advance: bool) {
         let period = self.period();
-        let (p, nl, law, mat, scale) =
-            (&mut self.p, &mut self.nl, &self.law, &self.mat, self.scale);
+        let law = if advance { self.law } else { self.law.frozen() };
+        let (p, nl, law, mat, scale) = (&mut self.p, &mut self.nl, &law, &self.mat, self.scale);
         let stats = self
             .timers
             .time(Phase::Pairs, || pair_forces(p, nl, law, mat, period, scale));
@@ -288,7 +331,7 @@ impl<'c> Sim<'c> {
             .collect();
         self.p.remove_owned(&leave);
         self.rebuild_with(saved);
-        self.forces();
+        self.forces_advancing(false);
     }
 
     /// Recompute the forces of the current state (after changing gravity, walls or scale).
@@ -296,10 +339,8 @@ impl<'c> Sim<'c> {
     /// the predicted ones of the last step, or a pair across a slab face would be evaluated
     /// with different inputs on its two sides.
     pub fn refresh_forces(&mut self) {
-        let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
-        self.timers
-            .time(Phase::Comm, || halo::update_ghosts(p, halo, slabs, comm));
-        self.forces();
+        self.update_ghosts();
+        self.forces_advancing(false);
     }
 
     /// Mean over axial slices (of width about `width`) of the highest particle centre.
@@ -322,6 +363,23 @@ impl<'c> Sim<'c> {
             .filter(|&i| !is_fixed(self.p.species[i]))
             .count();
         self.comm.sum_u64(mobile as u64)
+    }
+
+    /// Every contact history, sorted by ids and each once, on rank 0 (`None` elsewhere).
+    pub fn gather_histories(&self) -> Option<SavedHistory> {
+        let mut buf = Vec::new();
+        for (a, b, h) in self.saved_histories() {
+            buf.extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+        }
+        let all = self.comm.gather_f64(&buf)?;
+        let mut out: SavedHistory = all
+            .chunks_exact(5)
+            .map(|r| (r[0] as u64, r[1] as u64, [r[2], r[3], r[4]]))
+            .collect();
+        // a contact across a slab face is held, identically, by both ranks
+        out.sort_unstable_by_key(|x| (x.0, x.1));
+        out.dedup_by_key(|x| (x.0, x.1));
+        Some(out)
     }
 
     /// Every particle's state, sorted by id, on rank 0 (`None` elsewhere).

@@ -100,6 +100,21 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
                 case.species.len()
             ));
         }
+        if p.id >= crate::physics::rough_wall::FIRST_ID {
+            return Err(format!(
+                "init: particle id {} is too large (ids below 2^40 are accepted)",
+                p.id
+            ));
+        }
+        // the interaction range (cells, halo) is sized from the species' diameters
+        let largest = crate::physics::law::largest_diameter(&case.species[p.species as usize]);
+        if p.diameter > largest * (1.0 + 1e-12) {
+            return Err(format!(
+                "init: particle {} has diameter {}, larger than its species allows ({largest}): raise \
+                 species.{}.diameter or diameter_sd",
+                p.id, p.diameter, p.species
+            ));
+        }
         // a wall overlap of up to MAX_OVERLAP of the diameter is accepted, as between particles
         let r = 0.5 * p.diameter - MAX_OVERLAP * p.diameter;
         let x = p.x;

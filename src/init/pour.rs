@@ -237,8 +237,10 @@ pub fn grow_settle_cut(sim: &mut Sim, case: &Case, start_scale: f64) -> Result<P
     sim.remove_where(|s| s.x[1] > h);
     let kept = sim.global_count();
 
-    // How high the bed reaches: the top centre in each axial slice of width d_max.
-    let top = sim.bed_top(case.d_max());
+    // How high the bed reaches: the highest centre in each axial slice, averaged. Slices
+    // three largest diameters wide hold enough of the top layer that the highest centre
+    // lies within a few percent of a diameter of the cut (one diameter wide: ~15 %).
+    let top = sim.bed_top(3.0 * case.d_max());
     let measured_fill = fill_below(case.drum.shape, radius, top);
     if top < h - case.d_max() {
         return Err(format!(

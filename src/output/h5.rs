@@ -110,6 +110,63 @@ impl RunFile {
         })
     }
 
+    /// Reopen the output of an interrupted (or finished) run to continue it from a
+    /// checkpoint: the axial series are cut back to its first `samples` samples and what a
+    /// finished run added (`/particles`, end-of-run statistics) is removed. Also returns the
+    /// volume fractions of species `big` kept, for the space-time plot.
+    pub fn reopen(path: &Path, samples: usize, big: usize) -> hdf5::Result<(Self, Vec<Vec<f64>>)> {
+        let partial_path = partial_path(path);
+        if !partial_path.exists() && path.exists() {
+            std::fs::rename(path, &partial_path)
+                .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        }
+        let file = hdf5::File::open_rw(&partial_path)?;
+        if file.link_exists("particles") {
+            file.unlink("particles")?;
+        }
+        let names = file.attr_names()?;
+        for a in ["steps", "rebuilds", "migrations", "histories_migrated"] {
+            if names.iter().any(|n| n == a) {
+                file.delete_attr(a)?;
+            }
+        }
+        let rotations = file.dataset("axial/rotations")?;
+        let volume_fraction = file.dataset("axial/volume_fraction")?;
+        let count = file.dataset("axial/count")?;
+        let shape = volume_fraction.shape();
+        let (ns, nz) = (shape[1], shape[2]);
+        if shape[0] < samples {
+            return Err(hdf5::Error::from(
+                format!(
+                    "it holds {} axial samples, fewer than the checkpoint's {samples}",
+                    shape[0]
+                )
+                .as_str(),
+            ));
+        }
+        rotations.resize(samples)?;
+        volume_fraction.resize((samples, ns, nz))?;
+        count.resize((samples, ns, nz))?;
+        let vf: Vec<f64> = volume_fraction.read_raw()?;
+        let columns = (0..samples)
+            .map(|t| vf[(t * ns + big) * nz..(t * ns + big + 1) * nz].to_vec())
+            .collect();
+        Ok((
+            RunFile {
+                file,
+                final_path: path.to_path_buf(),
+                partial_path,
+                rotations,
+                volume_fraction,
+                count,
+                samples,
+                ns,
+                nz,
+            },
+            columns,
+        ))
+    }
+
     /// Append one axial sample taken at `rotations`.
     pub fn append(&mut self, rotations: f64, s: &AxialSample) -> hdf5::Result<()> {
         let t = self.samples;

@@ -1,5 +1,6 @@
-//! Files a run writes: the HDF5 file and the space-time PNG.
+//! Files a run writes: the HDF5 file, the space-time PNG, checkpoints.
 
+pub mod checkpoint;
 pub mod h5;
 pub mod spacetime;
 

@@ -64,6 +64,21 @@ impl ContactLaw {
         }
     }
 
+    /// The same law with time standing still: a tangential history is turned into the
+    /// tangent plane and cut back, but not advanced by the sliding of a step.
+    pub fn frozen(&self) -> Self {
+        match *self {
+            ContactLaw::SpringDashpot(SpringDashpot {
+                normal,
+                tangential: TangentialLaw::History { ratio, .. },
+            }) => ContactLaw::SpringDashpot(SpringDashpot {
+                normal,
+                tangential: TangentialLaw::History { ratio, dt: 0.0 },
+            }),
+            other => other,
+        }
+    }
+
     /// Whether contacts carry a tangential history.
     pub fn has_history(&self) -> bool {
         matches!(
@@ -154,11 +169,13 @@ pub fn largest_diameter(s: &crate::case::Species) -> f64 {
 
 /// Halo width and cell size: the largest interaction range plus the skin.
 pub fn reach(case: &Case) -> f64 {
+    // a rough wall's particles take part in pairs too
+    let rough = case.drum.rough_wall.as_ref().map_or(0.0, |r| r.diameter);
     let d = case
         .species
         .iter()
         .map(largest_diameter)
-        .fold(0.0, f64::max);
+        .fold(rough, f64::max);
     ContactLaw::new(case).cutoff(d, d) + case.skin()
 }
 
@@ -235,6 +252,14 @@ pub fn step_limits(case: &Case) -> StepLimits {
                     }
                 }
             }
+        }
+    }
+    // The Cundall-Strack spring oscillates sqrt(3.5 k_s/k_n) times faster than the normal one
+    // (the rotational inertia of a sphere adds 5/2 to the tangential effective mass's inverse).
+    if m.family == Family::SpringDashpot && m.tangential == Tangential::History {
+        let factor = (3.5 * m.stiffness_ratio).sqrt();
+        if factor > 1.0 {
+            t_min /= factor;
         }
     }
     StepLimits {

@@ -59,7 +59,7 @@ impl DrumWalls {
         let inner = self.radius - reach;
         if self.sphere {
             let rho2 = x.norm_squared();
-            if inner <= 0.0 || rho2 > inner * inner {
+            if rho2 > 0.0 && (inner <= 0.0 || rho2 > inner * inner) {
                 let rho = rho2.sqrt();
                 let s = self.radius / rho;
                 let v_wall = V3::new(-x.y * s, x.x * s, 0.0) * self.omega;
@@ -70,9 +70,10 @@ impl DrumWalls {
             return out;
         }
 
-        // Curved wall: r'_iw = (1 - R/rho) rho_vec, from the wall point to the centre.
+        // Curved wall: r'_iw = (1 - R/rho) rho_vec, from the wall point to the centre (on
+        // the axis itself the wall has no direction: only a drum narrower than the reach).
         let rho2 = x.x * x.x + x.y * x.y;
-        if inner <= 0.0 || rho2 > inner * inner {
+        if rho2 > 0.0 && (inner <= 0.0 || rho2 > inner * inner) {
             let rho = rho2.sqrt();
             let s = self.radius / rho;
             let radial = V3::new(x.x, x.y, 0.0);

@@ -1,0 +1,103 @@
+//! Checkpoints and restarts: N steps, a checkpoint, a restart (on the same or another number
+//! of ranks) and the rest gives the same bits and the same axial series as the run never
+//! interrupted, with the Cundall-Strack history model.
+
+mod common;
+
+use common::{case_path, mpirun, tmpdir};
+use std::path::Path;
+
+fn bits(f: &hdf5::File, name: &str) -> Vec<u64> {
+    let v: Vec<f64> = f.dataset(name).unwrap().read_raw().unwrap();
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+fn run(
+    ranks: usize,
+    dir: &Path,
+    out: &str,
+    rotations: &str,
+    restart: Option<&str>,
+) -> std::process::Output {
+    let case = case_path("sd_capped.toml");
+    let out = dir.join(out);
+    let rot = format!("run.rotations={rotations}");
+    let mut args = vec![
+        "run",
+        case.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        &rot,
+    ];
+    let ck;
+    if let Some(c) = restart {
+        ck = dir.join(c);
+        args.extend(["--restart", ck.to_str().unwrap()]);
+    }
+    let o = mpirun(ranks, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+#[test]
+fn restart_is_bit_identical_to_the_run_never_interrupted() {
+    let dir = tmpdir();
+    let d = dir.path();
+    run(2, d, "full.h5", "0.1", None);
+    let full = hdf5::File::open(d.join("full.h5")).unwrap();
+    // 0.047 rotations ends between two samples: that last sample is dropped on restart
+    for (a, b) in [(1, 1), (2, 2), (1, 3), (3, 2)] {
+        let name = format!("part{a}{b}.h5");
+        run(a, d, &name, "0.047", None);
+        let ck = format!("part{a}{b}.ckpt.h5");
+        run(b, d, &name, "0.1", Some(&ck));
+        let part = hdf5::File::open(d.join(&name)).unwrap();
+        for ds in [
+            "particles/position",
+            "particles/velocity",
+            "particles/angular_velocity",
+            "axial/rotations",
+            "axial/volume_fraction",
+        ] {
+            assert_eq!(
+                bits(&full, ds),
+                bits(&part, ds),
+                "{a} -> {b} ranks: {ds} differs"
+            );
+        }
+        let c1: Vec<u64> = full.dataset("axial/count").unwrap().read_raw().unwrap();
+        let c2: Vec<u64> = part.dataset("axial/count").unwrap().read_raw().unwrap();
+        assert_eq!(c1, c2, "{a} -> {b} ranks: axial counts");
+    }
+}
+
+#[test]
+fn checkpoint_of_another_case_is_refused() {
+    let dir = tmpdir();
+    let d = dir.path();
+    run(1, d, "a.h5", "0.01", None);
+    let case = case_path("sd_capped.toml");
+    let out = d.join("b.h5");
+    let ck = d.join("a.ckpt.h5");
+    let args = [
+        "run",
+        case.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--restart",
+        ck.to_str().unwrap(),
+        "--set",
+        "drum.omega=3.0",
+    ];
+    let o = mpirun(1, &args);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("different drum") && err.contains("--allow-different-case"),
+        "{err}"
+    );
+    let mut args = args.to_vec();
+    args.push("--allow-different-case");
+    assert!(mpirun(1, &args).status.success());
+}
