@@ -153,13 +153,10 @@ velocity = [0.0, 0.0, -0.5]
     // they moved towards each other for 1e-4 rotations (about 17 steps) without touching yet
     assert!(x[2] > -0.0012 && x[5] < 0.0015);
 
-    // restart from that file: the state is taken over exactly
+    // start again from that run's file: the state is taken over exactly
     let again = dir.path().join("again.toml");
-    let file_case = text.split("[[init.particle]]").next().unwrap().to_string()
-        + &"\n[init.file_marker]\n"
-            .to_string()
-            .replace("[init.file_marker]\n", "");
-    let file_case = file_case.replace(
+    let without_tables = text.split("[[init.particle]]").next().unwrap();
+    let file_case = without_tables.replace(
         "kind = \"particles\"",
         &format!("kind = \"particles\"\nfile = \"{}\"", out.display()),
     );
