@@ -51,6 +51,13 @@ pub fn pair_forces(
             dz = min_image(dz, l);
         }
         let r = V3::new(xa[0] - xb[0], xa[1] - xb[1], dz);
+        // Most listed pairs are within the skin but not touching: reject them before
+        // gathering their velocities (the law makes the same test, bit for bit).
+        let rc = law.cutoff(p.diameter[a] * scale, p.diameter[b] * scale);
+        if r.norm_squared() >= rc * rc {
+            *hist = [0.0; 3];
+            continue;
+        }
         let (ba, bb) = (body(p, a, scale), body(p, b, scale));
         let Some(c) = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist) else {
             continue;
