@@ -3,9 +3,11 @@
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
-use tumbler::run::{run, RunOptions};
+use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
 /// Discrete element simulations of granular flow and segregation in rotating tumblers.
 #[derive(Parser)]
@@ -106,14 +108,28 @@ fn main() -> ExitCode {
                 let stem = case.file_stem().map(|s| s.to_owned()).unwrap_or_default();
                 PathBuf::from(stem).with_extension("h5")
             });
+            // SIGTERM/SIGINT (what Slurm and a user send): finish the step, checkpoint, stop
+            // with EXIT_STOPPED; a second one stops at once (exit 130).
+            let stop = Arc::new(AtomicBool::new(false));
+            for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
+                let registered =
+                    signal_hook::flag::register_conditional_shutdown(sig, 130, Arc::clone(&stop))
+                        .and_then(|_| signal_hook::flag::register(sig, Arc::clone(&stop)));
+                if let Err(e) = registered {
+                    eprintln!("error: cannot handle signal {sig}: {e}");
+                    return ExitCode::from(1);
+                }
+            }
             let opts = RunOptions {
                 output,
                 overwrite,
                 restart,
                 allow_different_case,
+                stop: Some(stop),
             };
             match run(&lc, &comm, &opts) {
-                Ok(_) => ExitCode::SUCCESS,
+                Ok(RunEnd::Finished(_)) => ExitCode::SUCCESS,
+                Ok(RunEnd::Stopped { .. }) => ExitCode::from(EXIT_STOPPED),
                 Err(e) => {
                     if root {
                         eprintln!("error: {e}");

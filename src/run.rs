@@ -8,7 +8,15 @@ use crate::init::{initial_particles, pour};
 use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
 use crate::output::{spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
+
+/// Steps between checks of the stop flag (a global reduction).
+const STOP_CHECK_EVERY: u64 = 20;
+
+/// Exit code of a run stopped by SIGTERM/SIGINT after writing its checkpoint.
+pub const EXIT_STOPPED: u8 = 3;
 
 /// Options of `tumbler run` beyond the case.
 #[derive(Debug, Clone)]
@@ -21,6 +29,22 @@ pub struct RunOptions {
     pub restart: Option<PathBuf>,
     /// Accept a checkpoint whose drum, model, species or time step differ from the case.
     pub allow_different_case: bool,
+    /// Set (by a signal handler) to ask every rank to checkpoint and stop.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone)]
+pub enum RunEnd {
+    /// It ran to the end.
+    Finished(RunSummary),
+    /// It was asked to stop, and wrote a checkpoint at `step`.
+    Stopped {
+        /// The step the checkpoint holds.
+        step: u64,
+        /// The checkpoint to restart from.
+        checkpoint: PathBuf,
+    },
 }
 
 /// What a finished run reports.
@@ -51,7 +75,7 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
 }
 
 /// Run `lc` on the ranks of `comm`. Rank 0 writes the outputs.
-pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSummary, String> {
+pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd, String> {
     let case = &lc.case;
     let root = comm.rank() == 0;
     let big = case
@@ -235,6 +259,26 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
             }
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
+        if let Some(stop) = &opts.stop {
+            if sim.step % STOP_CHECK_EVERY == 0 && !comm.all_ok(!stop.load(Ordering::SeqCst)) {
+                // every rank finishes this step, then the state is saved and the run stops;
+                // the output stays NAME.partial for the restart to continue
+                save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
+                drop(file);
+                if root {
+                    log::warn!(
+                        "stopped by a signal at step {} ({:.3} rotations); checkpoint {}; continue with --restart",
+                        sim.step,
+                        sim.rotations(),
+                        ck_path.display()
+                    );
+                }
+                return Ok(RunEnd::Stopped {
+                    step: sim.step,
+                    checkpoint: ck_path,
+                });
+            }
+        }
         if ck_every.is_some_and(|k| sim.step % k == 0) && sim.step < total {
             let t0 = Instant::now();
             save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
@@ -322,7 +366,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunSum
             spacetime_path(&opts.output).display()
         );
     }
-    Ok(summary)
+    Ok(RunEnd::Finished(summary))
 }
 
 /// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes).

@@ -182,7 +182,8 @@ impl RunFile {
             .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
         self.count.write_slice(&c, (t, .., ..))?;
         self.samples += 1;
-        Ok(())
+        // on disk after every sample, so that a job killed later leaves a readable file
+        self.file.flush()
     }
 
     /// Write the final particle state (sorted by id) under `/particles`.
