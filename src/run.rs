@@ -259,6 +259,17 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             }
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
+        if sim.step % STOP_CHECK_EVERY == 0 {
+            let health = sim.health(case.run.max_overlap);
+            if let Err(e) = &health {
+                log::error!("{e}");
+            }
+            if !comm.all_ok(health.is_ok()) {
+                return Err(health.err().unwrap_or_else(|| {
+                    "run stopped: another rank found an unhealthy particle (see its message)".into()
+                }));
+            }
+        }
         if let Some(stop) = &opts.stop {
             if sim.step % STOP_CHECK_EVERY == 0 && !comm.all_ok(!stop.load(Ordering::SeqCst)) {
                 // every rank finishes this step, then the state is saved and the run stops;

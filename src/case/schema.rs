@@ -396,6 +396,14 @@ pub struct Run {
     /// largest diameter).
     #[serde(default)]
     pub skin: Option<f64>,
+    /// Largest overlap of two particles, as a fraction of the smaller diameter, before the
+    /// run stops as unhealthy.
+    #[serde(default = "default_max_overlap")]
+    pub max_overlap: f64,
+}
+
+fn default_max_overlap() -> f64 {
+    0.25
 }
 
 /// Outputs.

@@ -369,6 +369,15 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
     if let Some(s) = case.run.skin {
         c.positive("run.skin", s);
     }
+    if !(case.run.max_overlap > 0.0 && case.run.max_overlap < 1.0) {
+        c.bad(
+            "run.max_overlap",
+            format!(
+                "must be in (0, 1) (a fraction of the diameter), got {}",
+                case.run.max_overlap
+            ),
+        );
+    }
 
     let o = &case.output;
     c.positive("output.sample_every", o.sample_every);

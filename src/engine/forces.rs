@@ -11,8 +11,10 @@ use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 pub struct ForceStats {
     /// Pairs in contact.
     pub contacts: usize,
-    /// Largest overlap of a pair relative to the smaller diameter (spring-dashpot laws).
+    /// Largest overlap of a pair relative to the smaller diameter.
     pub max_overlap: f64,
+    /// Ids of the pair with that overlap.
+    pub max_overlap_ids: (u64, u64),
 }
 
 #[inline]
@@ -63,9 +65,10 @@ pub fn pair_forces(
             continue;
         };
         stats.contacts += 1;
-        if let ContactLaw::SpringDashpot(_) = law {
-            let overlap = (0.5 * (ba.d + bb.d) - r.norm()) / ba.d.min(bb.d);
-            stats.max_overlap = stats.max_overlap.max(overlap);
+        let overlap = (0.5 * (ba.d + bb.d) - r.norm()) / ba.d.min(bb.d);
+        if overlap > stats.max_overlap {
+            stats.max_overlap = overlap;
+            stats.max_overlap_ids = (p.id[a], p.id[b]);
         }
         let ta = c.n_cross_fs * (0.5 * ba.d);
         let tb = c.n_cross_fs * (0.5 * bb.d);

@@ -62,7 +62,9 @@ pub fn migrate(
             p.pack(i, &mut to_down);
         } else {
             panic!(
-                "particle {} at z = {} moved past a whole slab in one neighbour-list interval",
+                "particle {} at z = {} moved past a whole slab in one neighbour-list interval: \
+                 the run has blown up (time step too large for the stiffness, or particles \
+                 started too fast)",
                 p.id[i], p.x[i][2]
             );
         }

@@ -62,8 +62,10 @@ impl Grid {
     }
 
     /// Cells of size at least `reach` over the bounding box of `p`'s particles (their binning
-    /// coordinates), so that the grid grows with the particles, not with the drum.
-    pub fn around(p: &Particles, reach: f64) -> Self {
+    /// coordinates) within `[limit_lo, limit_hi]`, so that the grid grows with the particles,
+    /// not with the drum, and a particle flung far out (a run about to be stopped as
+    /// unhealthy) cannot make it huge: such a particle is binned in an edge cell.
+    pub fn around(p: &Particles, reach: f64, limit_lo: [f64; 3], limit_hi: [f64; 3]) -> Self {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
         for (x, zi) in p.x.iter().zip(&p.z_image) {
@@ -75,6 +77,10 @@ impl Grid {
         }
         if p.is_empty() {
             (lo, hi) = ([0.0; 3], [0.0; 3]);
+        }
+        for k in 0..3 {
+            lo[k] = lo[k].clamp(limit_lo[k], limit_hi[k]);
+            hi[k] = hi[k].clamp(limit_lo[k], limit_hi[k]);
         }
         Self::over(lo, hi, reach)
     }

@@ -63,8 +63,8 @@ pub struct Sim<'c> {
     pub histories_migrated: u64,
     /// Contacts in the last force pass.
     pub contacts: usize,
-    /// Largest relative overlap in the last force pass.
-    pub max_overlap: f64,
+    /// Largest relative overlap in the last force pass, and the ids of that pair.
+    pub max_overlap: (f64, u64, u64),
 }
 
 impl<'c> Sim<'c> {
@@ -164,7 +164,7 @@ impl<'c> Sim<'c> {
             migrated: 0,
             histories_migrated: 0,
             contacts: 0,
-            max_overlap: 0.0,
+            max_overlap: (0.0, 0, 0),
         };
         Ok(sim)
     }
@@ -206,9 +206,18 @@ impl<'c> Sim<'c> {
                 .max_f64(if m.is_nan() { f64::INFINITY } else { m })
         });
         if moved.is_infinite() {
+            let here = (0..self.p.n_owned)
+                .find(|&i| self.p.x[i].iter().any(|c| !c.is_finite()))
+                .map(|i| {
+                    format!(
+                        " (here: particle {}, species {})",
+                        self.p.id[i], self.p.species[i]
+                    )
+                })
+                .unwrap_or_default();
             panic!(
-                "a particle position became infinite or NaN at step {}: the time step is too large \
-                 for the contact stiffness or damping (see `tumbler check`)",
+                "a particle position became infinite or NaN at step {}{here}: the time step is too \
+                 large for the contact stiffness or damping (see `tumbler check`)",
                 self.step
             );
         }
@@ -289,10 +298,14 @@ impl<'c> Sim<'c> {
         self.migrated += moved.particles as u64;
         self.histories_migrated += moved.histories as u64;
         self.halo = halo;
+        // the slab and its halo, inside the drum
+        let (z_lo, z_hi) = self.slabs.range(self.comm.rank());
+        let r = self.walls.radius + self.reach;
+        let (box_lo, box_hi) = ([-r, -r, z_lo - self.reach], [r, r, z_hi + self.reach]);
         let (nl, p, skin, law, reach) = (&mut self.nl, &self.p, self.skin, &self.law, self.reach);
         self.timers.time(Phase::Neighbor, || {
             // cells over the particles' bounding box: they grow with the bed, not the drum
-            nl.build(p, &Grid::around(p, reach), skin, law);
+            nl.build(p, &Grid::around(p, reach, box_lo, box_hi), skin, law);
             if history {
                 nl.attach_histories(p, &saved);
             }
@@ -314,7 +327,11 @@ impl<'c> Sim<'c> {
             .timers
             .time(Phase::Pairs, || pair_forces(p, nl, law, mat, period, scale));
         self.contacts = stats.contacts;
-        self.max_overlap = stats.max_overlap;
+        self.max_overlap = (
+            stats.max_overlap,
+            stats.max_overlap_ids.0,
+            stats.max_overlap_ids.1,
+        );
         let (walls, g) = (&self.walls, self.gravity);
         self.timers.time(Phase::Walls, || {
             wall_and_body_forces(p, walls, law, mat, g, scale)
@@ -355,6 +372,47 @@ impl<'c> Sim<'c> {
         self.comm.max_f64_all(&mut top);
         let filled: Vec<f64> = top.into_iter().filter(|t| t.is_finite()).collect();
         filled.iter().sum::<f64>() / filled.len().max(1) as f64
+    }
+
+    /// This rank's verdict on the state: non-finite values, particles outside the drum, or an
+    /// overlap above `max_overlap` of the smaller diameter, with the particle, the step and
+    /// the likely cause. Every rank checks its own particles.
+    pub fn health(&self, max_overlap: f64) -> Result<(), String> {
+        let cause = "the time step is probably too large for the contact stiffness or damping \
+                     (see `tumbler check`), or the particles were started too fast";
+        let (r, half) = (self.walls.radius, self.walls.half_length);
+        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
+            let (x, v, w) = (self.p.x[i], self.p.v[i], self.p.w[i]);
+            let describe = |what: &str| {
+                format!(
+                    "run stopped at step {}: particle {} (species {}) at ({:.6e}, {:.6e}, {:.6e}) {what}; {cause}",
+                    self.step, self.p.id[i], self.p.species[i], x[0], x[1], x[2]
+                )
+            };
+            if x.iter().chain(&v).chain(&w).any(|c| !c.is_finite()) {
+                return Err(describe("has a non-finite position, velocity or spin"));
+            }
+            let rho2 = x[0] * x[0] + x[1] * x[1];
+            let outside = if self.walls.sphere {
+                rho2 + x[2] * x[2] > r * r
+            } else {
+                rho2 > r * r || (self.walls.capped && x[2].abs() > half)
+            };
+            if outside {
+                return Err(describe("has left the drum"));
+            }
+        }
+        let (overlap, a, b) = self.max_overlap;
+        if overlap > max_overlap {
+            return Err(format!(
+                "run stopped at step {}: particles {a} and {b} overlap by {:.1} % of the smaller diameter \
+                 (run.max_overlap is {:.1} %); {cause}",
+                self.step,
+                100.0 * overlap,
+                100.0 * max_overlap
+            ));
+        }
+        Ok(())
     }
 
     /// Total number of mobile particles over all ranks.
