@@ -259,3 +259,71 @@ fn an_existing_output_is_not_overwritten_unless_asked() {
     assert!(tumbler(&args).status.success());
     assert!(hdf5::File::open(&out).is_ok());
 }
+
+#[test]
+fn unreadable_or_foreign_particle_files_are_refused() {
+    let dir = tmpdir();
+    let text = std::fs::read_to_string(case_path("sd_capped.toml")).unwrap();
+    let bare = text
+        .replace("kind = \"pour\"", "kind = \"particles\"")
+        .replace("fill = 0.3\n", "")
+        .replace("settle_time = 0.2\n", "");
+    // not HDF5 at all, and HDF5 without /particles
+    let junk = dir.path().join("junk.h5");
+    std::fs::write(&junk, b"not an hdf5 file").unwrap();
+    let foreign = dir.path().join("foreign.h5");
+    hdf5::File::create(&foreign)
+        .unwrap()
+        .create_group("other")
+        .unwrap();
+    for file in [&junk, &foreign, &dir.path().join("missing.h5")] {
+        let case = dir.path().join("c.toml");
+        let with_file = bare.replace(
+            "kind = \"particles\"",
+            &format!("kind = \"particles\"\nfile = \"{}\"", file.display()),
+        );
+        std::fs::write(&case, with_file).unwrap();
+        let out = dir.path().join("o.h5");
+        let o = tumbler(&["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1));
+        expect(
+            &String::from_utf8_lossy(&o.stderr),
+            &["init.file", "cannot read particles from"],
+        );
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn an_output_path_that_cannot_be_written_is_refused() {
+    let dir = tmpdir();
+    let case = case_path("periodic.toml");
+    let out = dir.path().join("no/such/dir/out.h5");
+    let o = tumbler(&["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    expect(
+        &String::from_utf8_lossy(&o.stderr),
+        &["cannot open output file", "no/such/dir/out.h5"],
+    );
+}
+
+#[test]
+fn fill_outside_zero_one_and_keys_of_another_model_are_refused() {
+    let m = refusal(|t| {
+        apply_overrides(
+            &t,
+            &["init.kind=pour".into(), "init.fill=1.2".into()],
+            "bad.toml",
+        )
+        .unwrap()
+    });
+    expect(&m, &["init.fill", "must be in (0, 1)"]);
+    expect(
+        &with("model.restitution=0.9"),
+        &["model.restitution", "does not apply to the rapaport family"],
+    );
+    expect(
+        &with("run.max_overlap=1.5"),
+        &["run.max_overlap", "must be in (0, 1)"],
+    );
+}
