@@ -6,6 +6,9 @@ use crate::physics::Materials;
 
 /// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`]).
 pub const PACKED_WORDS: usize = 18 + 3 * WALLS;
+/// Number of `f64` words of a ghost's record at a halo build: what a pair force needs (id,
+/// species, diameter, position, velocity, spin), the head of the full record.
+pub const GHOST_WORDS: usize = 12;
 /// Number of `f64` words of a ghost update (position, velocity, angular velocity).
 pub const UPDATE_WORDS: usize = 9;
 
@@ -199,6 +202,16 @@ impl Particles {
         buf.extend_from_slice(&self.t[i]);
     }
 
+    /// Append what a ghost of particle `i` needs (the first [`GHOST_WORDS`] of its record).
+    pub fn pack_ghost(&self, i: usize, buf: &mut Vec<f64>) {
+        buf.push(self.id[i] as f64);
+        buf.push(self.species[i] as f64);
+        buf.push(self.diameter[i]);
+        buf.extend_from_slice(&self.x[i]);
+        buf.extend_from_slice(&self.v[i]);
+        buf.extend_from_slice(&self.w[i]);
+    }
+
     /// Append particle `i`'s moving state (position, velocity, spin) to a message buffer.
     pub fn pack_update(&self, i: usize, buf: &mut Vec<f64>) {
         buf.extend_from_slice(&self.x[i]);
@@ -212,6 +225,12 @@ impl Particles {
         self.v[i].copy_from_slice(&rec[3..6]);
         self.w[i].copy_from_slice(&rec[6..9]);
     }
+}
+
+/// Decode one ghost record written by [`Particles::pack_ghost`].
+pub fn unpack_ghost(rec: &[f64]) -> ParticleState {
+    let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
+    ParticleState::new(rec[0] as u64, rec[1] as u8, rec[2], v3(3), v3(6), v3(9))
 }
 
 /// Decode one full-state record written by [`Particles::pack`].

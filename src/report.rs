@@ -33,8 +33,12 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         per_species[p.species as usize] += 1;
     }
     let poured = case.init.kind == InitKind::Pour;
-    // A pour keeps the part below the cut: estimate it by volume.
-    let kept = if poured { 0.6 / (0.64 * 1.25) } else { 1.0 };
+    // A pour keeps the part below the cut: estimate it by volume, for a bed packed at 0.6.
+    let kept = if poured {
+        0.6 / (pour::PACKING * pour::OVERFILL)
+    } else {
+        1.0
+    };
     let n = (initial.len() as f64 * kept).round() as usize;
     let dt = case.dt();
     let steps_per_rot = 2.0 * std::f64::consts::PI / (case.drum.omega.abs() * dt);

@@ -6,17 +6,6 @@ use crate::physics::integrate::min_image;
 use crate::physics::rough_wall::is_fixed;
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
-/// Counts from one force pass.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct ForceStats {
-    /// Pairs in contact.
-    pub contacts: usize,
-    /// Largest overlap of a pair relative to the smaller diameter.
-    pub max_overlap: f64,
-    /// Ids of the pair with that overlap.
-    pub max_overlap_ids: (u64, u64),
-}
-
 #[inline]
 fn body(p: &Particles, i: usize, scale: f64) -> Body {
     Body {
@@ -36,14 +25,13 @@ pub fn pair_forces(
     mat: &Materials,
     period: Option<f64>,
     scale: f64,
-) -> ForceStats {
+) {
     for f in p.f.iter_mut() {
         *f = [0.0; 3];
     }
     for t in p.t.iter_mut() {
         *t = [0.0; 3];
     }
-    let mut stats = ForceStats::default();
     for (&(a, b), hist) in nl.pairs.iter().zip(nl.hist.iter_mut()) {
         let (a, b) = (a as usize, b as usize);
         let xa = p.x[a];
@@ -64,12 +52,6 @@ pub fn pair_forces(
         let Some(c) = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist) else {
             continue;
         };
-        stats.contacts += 1;
-        let overlap = (0.5 * (ba.d + bb.d) - r.norm()) / ba.d.min(bb.d);
-        if overlap > stats.max_overlap {
-            stats.max_overlap = overlap;
-            stats.max_overlap_ids = (p.id[a], p.id[b]);
-        }
         let ta = c.n_cross_fs * (0.5 * ba.d);
         let tb = c.n_cross_fs * (0.5 * bb.d);
         for k in 0..3 {
@@ -79,7 +61,6 @@ pub fn pair_forces(
             p.t[b][k] -= tb[k];
         }
     }
-    stats
 }
 
 /// Add the wall forces and gravity (along `-y`) to the owned particles.

@@ -9,7 +9,7 @@
 use super::neighbor::SavedHistory;
 use super::slabs::Slabs;
 use crate::comm::Comm;
-use crate::particles::{unpack, Particles, PACKED_WORDS, UPDATE_WORDS};
+use crate::particles::{unpack, unpack_ghost, Particles, GHOST_WORDS, PACKED_WORDS, UPDATE_WORDS};
 use crate::physics::Materials;
 
 /// Which owned particles were sent as ghosts to each neighbour, and where their copies sit.
@@ -153,10 +153,10 @@ pub fn borders(
     }
     let (mut to_down, mut to_up) = (Vec::new(), Vec::new());
     for &i in &halo.send_down {
-        p.pack(i, &mut to_down);
+        p.pack_ghost(i, &mut to_down);
     }
     for &i in &halo.send_up {
-        p.pack(i, &mut to_up);
+        p.pack_ghost(i, &mut to_up);
     }
     halo.words_sent = to_down.len() + to_up.len();
     let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
@@ -164,14 +164,14 @@ pub fn borders(
     // Images across the periodic ends sit one drum length away.
     let shift_down = if me == 0 { -slabs.length } else { 0.0 };
     let shift_up = if me == last { slabs.length } else { 0.0 };
-    for rec in from_down.chunks_exact(PACKED_WORDS) {
-        p.push(&unpack(rec), mat, shift_down);
+    for rec in from_down.chunks_exact(GHOST_WORDS) {
+        p.push(&unpack_ghost(rec), mat, shift_down);
     }
-    for rec in from_up.chunks_exact(PACKED_WORDS) {
-        p.push(&unpack(rec), mat, shift_up);
+    for rec in from_up.chunks_exact(GHOST_WORDS) {
+        p.push(&unpack_ghost(rec), mat, shift_up);
     }
-    halo.n_from_down = from_down.len() / PACKED_WORDS;
-    halo.n_from_up = from_up.len() / PACKED_WORDS;
+    halo.n_from_down = from_down.len() / GHOST_WORDS;
+    halo.n_from_up = from_up.len() / GHOST_WORDS;
     halo
 }
 

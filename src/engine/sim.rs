@@ -8,7 +8,7 @@ use super::timers::{Phase, Timers};
 use crate::case::{Case, Shape};
 use crate::comm::Comm;
 use crate::particles::{ParticleState, Particles};
-use crate::physics::integrate::{drift, half_kick};
+use crate::physics::integrate::{drift, half_kick, min_image};
 use crate::physics::rough_wall::{is_fixed, RoughWall};
 use crate::physics::{law, ContactLaw, DrumWalls, Materials};
 
@@ -61,10 +61,6 @@ pub struct Sim<'c> {
     pub migrated: u64,
     /// Contact histories this rank sent along with migrating particles so far.
     pub histories_migrated: u64,
-    /// Contacts in the last force pass.
-    pub contacts: usize,
-    /// Largest relative overlap in the last force pass, and the ids of that pair.
-    pub max_overlap: (f64, u64, u64),
 }
 
 impl<'c> Sim<'c> {
@@ -163,8 +159,6 @@ impl<'c> Sim<'c> {
             rebuilds: 0,
             migrated: 0,
             histories_migrated: 0,
-            contacts: 0,
-            max_overlap: (0.0, 0, 0),
         };
         Ok(sim)
     }
@@ -323,15 +317,8 @@ impl<'c> Sim<'c> {
         let period = self.period();
         let law = if advance { self.law } else { self.law.frozen() };
         let (p, nl, law, mat, scale) = (&mut self.p, &mut self.nl, &law, &self.mat, self.scale);
-        let stats = self
-            .timers
+        self.timers
             .time(Phase::Pairs, || pair_forces(p, nl, law, mat, period, scale));
-        self.contacts = stats.contacts;
-        self.max_overlap = (
-            stats.max_overlap,
-            stats.max_overlap_ids.0,
-            stats.max_overlap_ids.1,
-        );
         let (walls, g) = (&self.walls, self.gravity);
         self.timers.time(Phase::Walls, || {
             wall_and_body_forces(p, walls, law, mat, g, scale)
@@ -402,7 +389,7 @@ impl<'c> Sim<'c> {
                 return Err(describe("has left the drum"));
             }
         }
-        let (overlap, a, b) = self.max_overlap;
+        let (overlap, a, b) = self.worst_overlap();
         if overlap > max_overlap {
             return Err(format!(
                 "run stopped at step {}: particles {a} and {b} overlap by {:.1} % of the smaller diameter \
@@ -413,6 +400,34 @@ impl<'c> Sim<'c> {
             ));
         }
         Ok(())
+    }
+
+    /// The largest overlap of a listed pair, relative to the smaller diameter (the contact
+    /// diameter being `(d_a + d_b)/2` in both families), and that pair's ids.
+    fn worst_overlap(&self) -> (f64, u64, u64) {
+        let period = self.period();
+        let mut worst = (0.0, 0, 0);
+        for &(a, b) in &self.nl.pairs {
+            let (a, b) = (a as usize, b as usize);
+            let (xa, xb) = (self.p.x[a], self.p.x[b]);
+            let mut dz = xa[2] - xb[2];
+            if let Some(l) = period {
+                dz = min_image(dz, l);
+            }
+            let r2 = (xa[0] - xb[0]).powi(2) + (xa[1] - xb[1]).powi(2) + dz * dz;
+            let (da, db) = (
+                self.p.diameter[a] * self.scale,
+                self.p.diameter[b] * self.scale,
+            );
+            let touch = 0.5 * (da + db);
+            if r2 < touch * touch {
+                let overlap = (touch - r2.sqrt()) / da.min(db);
+                if overlap > worst.0 {
+                    worst = (overlap, self.p.id[a], self.p.id[b]);
+                }
+            }
+        }
+        worst
     }
 
     /// Total number of mobile particles over all ranks.

@@ -15,9 +15,9 @@ use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
 
 /// Packing fraction of a random bed used to size the pour (random close packing).
-const PACKING: f64 = 0.64;
+pub const PACKING: f64 = 0.64;
 /// How many more particles than the fill needs are poured before the cut.
-const OVERFILL: f64 = 1.25;
+pub const OVERFILL: f64 = 1.25;
 /// Largest solid fraction at which the points are placed (at their shrunken size).
 const PLACEMENT_FRACTION: f64 = 0.12;
 
