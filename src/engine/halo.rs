@@ -19,8 +19,6 @@ pub struct Halo {
     send_up: Vec<usize>,
     n_from_down: usize,
     n_from_up: usize,
-    /// Words sent in the last full exchange (for the run's statistics).
-    pub words_sent: usize,
 }
 
 /// Words of one saved contact history in a message: both ids and the vector.
@@ -158,7 +156,6 @@ pub fn borders(
     for &i in &halo.send_up {
         p.pack_ghost(i, &mut to_up);
     }
-    halo.words_sent = to_down.len() + to_up.len();
     let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
     let last = slabs.size() - 1;
     // Images across the periodic ends sit one drum length away.
