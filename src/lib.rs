@@ -4,7 +4,9 @@
 //! Layout (see `ARCHITECTURE.md`): [`case`] reads and checks case files; [`physics`] holds
 //! the contact laws, walls and integrator as plain functions; [`engine`] is the
 //! slab-decomposed step loop; [`comm`] is the only place that speaks MPI; [`diag`] bins and
-//! gathers diagnostics; [`output`] writes HDF5 and PNG; [`run`] drives a whole run.
+//! gathers diagnostics; [`output`] writes HDF5 and PNG; [`run`] drives a whole run;
+//! [`inspect`] reads a run's file back (`tumbler info`, `tumbler bands`) and [`plot`] draws
+//! pictures of it (`tumbler plot ...`).
 #![warn(missing_docs)]
 // Struct-of-arrays kernels index several parallel arrays with one loop index.
 #![allow(clippy::needless_range_loop)]
@@ -14,9 +16,11 @@ pub mod comm;
 pub mod diag;
 pub mod engine;
 pub mod init;
+pub mod inspect;
 pub mod output;
 pub mod particles;
 pub mod physics;
+pub mod plot;
 pub mod report;
 pub mod run;
 

@@ -7,6 +7,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
+use tumbler::inspect::{
+    band_table, info, BandsOptions, InfoOptions, InspectError, RunReader, EXIT_BAD_INPUT,
+};
 use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
 /// Discrete element simulations of granular flow and segregation in rotating tumblers.
@@ -50,6 +53,90 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         ranks: usize,
     },
+    /// Show what a run's HDF5 file holds: case, version, ranks, time span, datasets.
+    Info {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// Print the whole case text, not only its first lines.
+        #[arg(long)]
+        case: bool,
+        /// List every group of a long series (such as each snapshot), not only the first.
+        #[arg(long)]
+        all: bool,
+    },
+    /// Print the band count of the big species over time (`rotations  bands`).
+    Bands {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// Recompute with this threshold (departure from the drum-mean volume fraction).
+        #[arg(long, value_name = "C")]
+        threshold: Option<f64>,
+        /// Recompute with this many slices as the narrowest band.
+        #[arg(long, value_name = "N")]
+        min_slices: Option<usize>,
+    },
+    /// Draw a picture of a run's HDF5 file as a PNG.
+    Plot {
+        #[command(subcommand)]
+        what: PlotCommand,
+    },
+}
+
+/// The pictures `tumbler plot` draws (default output `STEM_<what>.png` beside the file).
+#[derive(Subcommand)]
+enum PlotCommand {
+    /// Space-time plot of the big species' volume fraction (time right, z up).
+    Spacetime {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// The PNG to write (default `STEM_spacetime.png` beside the file).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// The run's own picture: no axes, no labels.
+        #[arg(long)]
+        bare: bool,
+    },
+    /// Axial profiles in one window: concentrations, up/downstream fluxes, diffusivity.
+    Profile {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// Window index (0 = first; default the last).
+        #[arg(long, value_name = "K")]
+        window: Option<usize>,
+        /// The PNG to write (default `STEM_profile_K.png` beside the file).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// A binned field on a plane (or the free-surface layer) as a colour map.
+    Field {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// number_density:S, volume_fraction:S, axial_flux:S (S a species index or name),
+        /// u, v, w, ud, vd, wd, u_rms, v_rms, w_rms, rms, depth, boundary, surface.
+        #[arg(long, value_name = "Q")]
+        quantity: String,
+        /// Window index (0 = first; default the last).
+        #[arg(long, value_name = "K")]
+        window: Option<usize>,
+        /// y=V, x=V, z=V or surface (default: surface for velocities, else the z plane
+        /// nearest 0); ignored for depth, boundary and surface.
+        #[arg(long, value_name = "PLANE")]
+        plane: Option<String>,
+        /// The PNG to write (default `STEM_field_Q_PLANE_K.png` beside the file).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// |Q_up| and |Q_down| of the mixture along z, for every window.
+    Flux {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// Only these windows, e.g. `0,5,10`.
+        #[arg(long, value_name = "LIST")]
+        windows: Option<String>,
+        /// The PNG to write (default `STEM_flux.png` beside the file).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
 }
 
 fn report_case_errors(errs: &[CaseError]) {
@@ -59,12 +146,105 @@ fn report_case_errors(errs: &[CaseError]) {
     }
 }
 
+/// `info`, `bands` and `plot` only read: let them open the output of a job that is still
+/// running (HDF5 refuses a file another process holds open unless file locking is off),
+/// unless the user chose a locking mode. Called before any HDF5 call, on one thread.
+fn read_without_locking() {
+    if std::env::var_os("HDF5_USE_FILE_LOCKING").is_none() {
+        std::env::set_var("HDF5_USE_FILE_LOCKING", "FALSE");
+    }
+}
+
+/// Print what an `info`/`bands` command made, or its refusal (exit code 2).
+fn report(result: Result<String, InspectError>) -> ExitCode {
+    match result {
+        Ok(text) => {
+            print!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+    }
+}
+
+/// Draw a picture and say where it went.
+fn plot(what: PlotCommand) -> ExitCode {
+    use tumbler::plot::*;
+    let written = match what {
+        PlotCommand::Spacetime { file, output, bare } => {
+            plot_spacetime(&file, &SpacetimeOptions { output, bare })
+        }
+        PlotCommand::Profile {
+            file,
+            window,
+            output,
+        } => plot_profile(&file, &ProfileOptions { window, output }),
+        PlotCommand::Field {
+            file,
+            quantity,
+            window,
+            plane,
+            output,
+        } => plot_field(
+            &file,
+            &FieldOptions {
+                quantity,
+                window,
+                plane,
+                output,
+            },
+        ),
+        PlotCommand::Flux {
+            file,
+            windows,
+            output,
+        } => windows
+            .as_deref()
+            .map(parse_windows)
+            .transpose()
+            .and_then(|windows| plot_flux(&file, &FluxOptions { windows, output })),
+    };
+    report(written.map(|path| format!("wrote {}\n", path.display())))
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
         .format_timestamp_secs()
         .init();
+    if matches!(
+        cli.command,
+        Command::Info { .. } | Command::Bands { .. } | Command::Plot { .. }
+    ) {
+        read_without_locking();
+    }
     match cli.command {
+        Command::Info { file, case, all } => report(RunReader::open(&file).and_then(|r| {
+            info(
+                &r,
+                &InfoOptions {
+                    full_case: case,
+                    all_groups: all,
+                },
+            )
+        })),
+        Command::Bands {
+            file,
+            threshold,
+            min_slices,
+        } => report(RunReader::open(&file).and_then(|r| {
+            band_table(
+                &r,
+                &BandsOptions {
+                    threshold,
+                    min_slices,
+                },
+            )
+            .map(|t| t.to_string())
+        })),
+        Command::Plot { what } => plot(what),
         Command::Check { case, set, ranks } => match load_case(&case, &set) {
             Ok(lc) => match tumbler::report::check_report(&lc.case, ranks.max(1)) {
                 Ok(text) => {

@@ -135,5 +135,27 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         mem / (1 << 20) as f64,
         BYTES_PER_PARTICLE
     );
+    let g = &case.diagnostics;
+    let nz = (case.drum.axial_length() / case.slice_width())
+        .round()
+        .max(1.0) as usize;
+    let [nx, ny, nzf] = g.fields.grid;
+    let ns = case.species.len();
+    // 128-bit sums: 10 per species and field bin, 2 per species and slice bin
+    let sums = 16 * ns * nx * ny * (10 * nzf + 2 * nz);
+    let _ = writeln!(
+        out,
+        "diagnostics    {:.1} MiB of window sums per rank; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
+        sums as f64 / (1 << 20) as f64,
+        nx,
+        ny,
+        nzf,
+        g.fields.window,
+        nz,
+        nx,
+        ny,
+        g.window,
+        g.sample_every
+    );
     Ok(out)
 }

@@ -327,3 +327,31 @@ fn fill_outside_zero_one_and_keys_of_another_model_are_refused() {
         &["run.max_overlap", "must be in (0, 1)"],
     );
 }
+
+#[test]
+fn impossible_diagnostics_settings_are_refused() {
+    let m = with("diagnostics.fields.grid=[0, 40, 16]");
+    expect(
+        &m,
+        &[
+            "diagnostics.fields.grid",
+            "entry 0 must be between 1 and 1000 bins",
+        ],
+    );
+    let m = with("diagnostics.window=0.001");
+    expect(
+        &m,
+        &["diagnostics.window", "at least diagnostics.sample_every"],
+    );
+    let m = with("diagnostics.bands.threshold=1.5");
+    expect(&m, &["diagnostics.bands.threshold", "(0, 1)"]);
+    let m = with("diagnostics.surface_angle=95.0");
+    expect(&m, &["diagnostics.surface_angle", "between -90 and 90"]);
+    let m = with("diagnostics.paths.regions=[{ min = [0.0, 0.0, 0.0], max = [1.0, -1.0, 1.0] }]");
+    expect(
+        &m,
+        &["diagnostics.paths.regions[0]", "min must be below max"],
+    );
+    let m = with("diagnostics.snapshots.every=0.0");
+    expect(&m, &["diagnostics.snapshots.every", "must be positive"]);
+}

@@ -112,6 +112,11 @@ fn assert_identical(case: &str) -> Vec<Snapshot> {
         );
         assert_eq!(one.count, other.count, "{case}: axial counts");
         assert_eq!(bits(&one.rotations), bits(&other.rotations));
+        common::assert_same_diagnostics(
+            &dir.path().join(format!("{case}.1.h5")),
+            &dir.path().join(format!("{case}.{ranks}.h5")),
+            &format!("{case} on {ranks} ranks vs 1"),
+        );
         others.push(other);
     }
     others

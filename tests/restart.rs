@@ -69,6 +69,11 @@ fn restart_is_bit_identical_to_the_run_never_interrupted() {
         let c1: Vec<u64> = full.dataset("axial/count").unwrap().read_raw().unwrap();
         let c2: Vec<u64> = part.dataset("axial/count").unwrap().read_raw().unwrap();
         assert_eq!(c1, c2, "{a} -> {b} ranks: axial counts");
+        common::assert_same_diagnostics(
+            &d.join("full.h5"),
+            &d.join(&name),
+            &format!("{a} -> {b} ranks"),
+        );
     }
 }
 
@@ -97,6 +102,16 @@ fn checkpoint_of_another_case_is_refused() {
         err.contains("different drum") && err.contains("--allow-different-case"),
         "{err}"
     );
+    // other averaging windows would cut the output back to the wrong records
+    let mut other = args.to_vec();
+    other[7] = "diagnostics.window=0.04";
+    let o = mpirun(1, &other);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("different diagnostics"), "{err}");
+    // not even when asked
+    other.push("--allow-different-case");
+    assert!(!mpirun(1, &other).status.success());
     let mut args = args.to_vec();
     args.push("--allow-different-case");
     assert!(mpirun(1, &args).status.success());

@@ -60,6 +60,9 @@ pub struct Case {
     /// What is written, and how often.
     #[serde(default)]
     pub output: Output,
+    /// Diagnostics beyond the axial profiles: fluxes, fields, bands, paths, snapshots.
+    #[serde(default)]
+    pub diagnostics: Diagnostics,
 }
 
 /// End conditions of the cylinder.
@@ -440,4 +443,142 @@ impl Default for Output {
             checkpoint_every: None,
         }
     }
+}
+
+/// Diagnostics computed in the run (definitions in `docs/diagnostics.md`).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Diagnostics {
+    /// Interval between samples of the windowed diagnostics (surface angle, slice fluxes,
+    /// binned fields), in rotations.
+    #[serde(default = "default_diag_every")]
+    pub sample_every: f64,
+    /// Averaging window of the per-slice fluxes, diffusivity and angles, in rotations.
+    #[serde(default = "default_window")]
+    pub window: f64,
+    /// Fixed angle of the surface frame in degrees (default: measured at every sample).
+    #[serde(default)]
+    pub surface_angle: Option<f64>,
+    /// Binned fields.
+    #[serde(default)]
+    pub fields: Fields,
+    /// Band counting.
+    #[serde(default)]
+    pub bands: Bands,
+    /// Particle paths.
+    #[serde(default)]
+    pub paths: Paths,
+    /// Snapshots of every particle.
+    #[serde(default)]
+    pub snapshots: Snapshots,
+}
+
+fn default_diag_every() -> f64 {
+    0.02
+}
+fn default_window() -> f64 {
+    1.0
+}
+
+impl Default for Diagnostics {
+    fn default() -> Self {
+        Diagnostics {
+            sample_every: default_diag_every(),
+            window: default_window(),
+            surface_angle: None,
+            fields: Fields::default(),
+            bands: Bands::default(),
+            paths: Paths::default(),
+            snapshots: Snapshots::default(),
+        }
+    }
+}
+
+/// The cuboid grid of binned fields in the surface frame.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fields {
+    /// Bins along `x` (streamwise), `y` (surface normal) and `z` (axis); the per-slice fluxes
+    /// use the first two on every axial slice.
+    #[serde(default = "default_grid")]
+    pub grid: [usize; 3],
+    /// Averaging window in rotations.
+    #[serde(default = "default_field_window")]
+    pub window: f64,
+}
+
+fn default_field_window() -> f64 {
+    10.0
+}
+
+fn default_grid() -> [usize; 3] {
+    [40, 40, 16]
+}
+
+impl Default for Fields {
+    fn default() -> Self {
+        Fields {
+            grid: default_grid(),
+            window: default_field_window(),
+        }
+    }
+}
+
+/// How bands are counted in the axial profiles.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bands {
+    /// Departure of the big species' volume fraction from its drum mean that marks a band.
+    #[serde(default = "default_band_threshold")]
+    pub threshold: f64,
+    /// Narrowest band counted, as a length (default: two largest diameters).
+    #[serde(default)]
+    pub min_width: Option<f64>,
+}
+
+fn default_band_threshold() -> f64 {
+    0.2
+}
+
+impl Default for Bands {
+    fn default() -> Self {
+        Bands {
+            threshold: default_band_threshold(),
+            min_width: None,
+        }
+    }
+}
+
+/// Particles whose paths are recorded.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Paths {
+    /// Ids of particles to follow.
+    #[serde(default)]
+    pub ids: Vec<u64>,
+    /// Boxes (lab frame); the particles whose centres lie in one at the start are followed.
+    #[serde(default)]
+    pub regions: Vec<Region>,
+    /// Interval between path samples in rotations (default: `diagnostics.sample_every`).
+    #[serde(default)]
+    pub every: Option<f64>,
+}
+
+/// An axis-aligned box in the lab frame.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Region {
+    /// Lower corner.
+    pub min: [f64; 3],
+    /// Upper corner.
+    pub max: [f64; 3],
+}
+
+/// Snapshots of every particle.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Snapshots {
+    /// Interval in rotations (none by default).
+    #[serde(default)]
+    pub every: Option<f64>,
 }

@@ -393,6 +393,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             );
         }
     }
+    check_diagnostics(case, &mut c);
 
     if c.errs.is_empty() {
         cross_checks(case, &mut c);
@@ -468,5 +469,125 @@ fn cross_checks(case: &Case, c: &mut Checker) {
             "drum.length",
             format!("a capped drum of length {l} leaves no room between the end gaps (init.wall_gap = {})", case.init.wall_gap),
         );
+    }
+}
+
+fn check_diagnostics(case: &Case, c: &mut Checker) {
+    let g = &case.diagnostics;
+    c.positive("diagnostics.sample_every", g.sample_every);
+    if !(g.window.is_finite() && g.window >= g.sample_every) {
+        c.bad(
+            "diagnostics.window",
+            format!(
+                "must be at least diagnostics.sample_every ({}), got {}",
+                g.sample_every, g.window
+            ),
+        );
+    }
+    if let Some(a) = g.surface_angle {
+        if !(a.is_finite() && a.abs() < 90.0) {
+            c.bad(
+                "diagnostics.surface_angle",
+                format!("must be an angle in degrees between -90 and 90, got {a}"),
+            );
+        }
+    }
+    for (k, n) in g.fields.grid.iter().enumerate() {
+        if !(1..=1000).contains(n) {
+            c.bad(
+                "diagnostics.fields.grid",
+                format!("entry {k} must be between 1 and 1000 bins, got {n}"),
+            );
+        }
+    }
+    let cells: usize = g.fields.grid.iter().product();
+    if cells > 4_000_000 {
+        c.bad(
+            "diagnostics.fields.grid",
+            format!("{cells} bins is more than the 4,000,000 a window can hold"),
+        );
+    }
+    // the window sums of one rank, and their reduction in 64-bit limbs (MPI counts are i32)
+    let [nx, ny, nzf] = g.fields.grid;
+    let slices = case.drum.axial_length() / case.slice_width();
+    let nz = if slices.is_finite() && slices < 1e7 {
+        slices.round().max(1.0) as usize
+    } else {
+        0
+    };
+    let sums =
+        case.species.len().min(256) * nx.min(1000) * ny.min(1000) * (10 * nzf.min(1000) + 2 * nz);
+    if 3 * sums > i32::MAX as usize / 2 {
+        c.bad(
+            "diagnostics.fields.grid",
+            format!(
+                "with {nz} axial slices the window sums need {} MiB per rank; use fewer bins or wider output.slice_width",
+                (16 * sums) >> 20
+            ),
+        );
+    }
+    for (key, w) in [
+        ("diagnostics.window", g.window),
+        ("diagnostics.fields.window", g.fields.window),
+    ] {
+        let r = w / g.sample_every;
+        if w.is_finite() && r >= 1.0 && (r - r.round()).abs() > 1e-6 * r {
+            c.bad(
+                key,
+                format!(
+                    "must be a whole number of diagnostics.sample_every ({}), got {w} ({r:.3} samples)",
+                    g.sample_every
+                ),
+            );
+        }
+    }
+    {
+        let w = g.fields.window;
+        if !(w.is_finite() && w >= g.sample_every) {
+            c.bad(
+                "diagnostics.fields.window",
+                format!(
+                    "must be at least diagnostics.sample_every ({}), got {w}",
+                    g.sample_every
+                ),
+            );
+        }
+    }
+    if !(g.bands.threshold.is_finite() && g.bands.threshold > 0.0 && g.bands.threshold < 1.0) {
+        c.bad(
+            "diagnostics.bands.threshold",
+            format!(
+                "must be a volume-fraction departure in (0, 1), got {}",
+                g.bands.threshold
+            ),
+        );
+    }
+    if let Some(w) = g.bands.min_width {
+        c.non_negative("diagnostics.bands.min_width", w);
+    }
+    for (k, id) in g.paths.ids.iter().enumerate() {
+        if *id >= crate::physics::rough_wall::FIRST_ID {
+            c.bad(
+                "diagnostics.paths.ids",
+                format!("entry {k} ({id}) is not a particle id (ids are below 2^40)"),
+            );
+        }
+    }
+    for (k, r) in g.paths.regions.iter().enumerate() {
+        if (0..3).any(|a| !(r.min[a].is_finite() && r.max[a].is_finite() && r.min[a] < r.max[a])) {
+            c.bad(
+                &format!("diagnostics.paths.regions[{k}]"),
+                format!(
+                    "min must be below max on every axis, got min {:?}, max {:?}",
+                    r.min, r.max
+                ),
+            );
+        }
+    }
+    if let Some(e) = g.paths.every {
+        c.positive("diagnostics.paths.every", e);
+    }
+    if let Some(e) = g.snapshots.every {
+        c.positive("diagnostics.snapshots.every", e);
     }
 }

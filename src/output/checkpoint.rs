@@ -4,11 +4,13 @@
 //! One HDF5 file, written by rank 0: every mobile particle (id, species, diameter, position,
 //! velocity, spin, the force and torque of the last evaluation, which the next half kick
 //! uses, and its wall histories), every contact history keyed by the pair's ids, the step,
-//! the number of axial samples written, and the case text. It is written as `NAME.tmp`,
+//! the number of axial samples written, the case text, and the diagnostics' windows in
+//! progress (exact sums, so a restart averages the same bits). It is written as `NAME.tmp`,
 //! flushed to disk and renamed over `NAME`, so the previous checkpoint stays whole until the
 //! new one is. (The run draws no random numbers after the initial state, so there is no
 //! generator state to keep.)
 
+use crate::diag::windows::AngleSums;
 use crate::engine::neighbor::SavedHistory;
 use crate::particles::ParticleState;
 use crate::physics::materials::WALLS;
@@ -30,6 +32,100 @@ pub struct Checkpoint {
     pub particles: Vec<ParticleState>,
     /// Contact histories, sorted by ids.
     pub histories: SavedHistory,
+    /// The windows in progress and the particles followed.
+    pub diag: DiagState,
+}
+
+/// The diagnostics' state a restart needs: the sums of the windows in progress (gathered on
+/// rank 0) and the ids of the particles whose paths are recorded.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DiagState {
+    /// Per-slice sums.
+    pub slices: SavedSums,
+    /// Field sums.
+    pub fields: SavedSums,
+    /// Angle sums of the per-slice window.
+    pub angles: AngleSums,
+    /// Ids of the particles followed.
+    pub path_ids: Vec<u64>,
+}
+
+/// The sums of one window in progress.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SavedSums {
+    /// Samples accumulated.
+    pub samples: u64,
+    /// Sum of their frame angles, degrees.
+    pub angle_sum: f64,
+    /// Fixed-point sums (see `diag::grid::BinnedSums`).
+    pub sums: Vec<i128>,
+}
+
+fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
+    let g = f.create_group("diagnostics")?;
+    for (name, s) in [("slices", &d.slices), ("fields", &d.fields)] {
+        let (samples, angle_sum, sums) = (&s.samples, &s.angle_sum, &s.sums);
+        let hi: Vec<i64> = sums.iter().map(|&x| (x >> 64) as i64).collect();
+        let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
+        g.new_dataset_builder()
+            .with_data(&hi)
+            .create(format!("{name}_hi").as_str())?;
+        g.new_dataset_builder()
+            .with_data(&lo)
+            .create(format!("{name}_lo").as_str())?;
+        g.new_attr::<u64>()
+            .create(format!("{name}_samples").as_str())?
+            .write_scalar(samples)?;
+        g.new_attr::<f64>()
+            .create(format!("{name}_angle_sum").as_str())?
+            .write_scalar(angle_sum)?;
+    }
+    let a = &d.angles;
+    g.new_dataset_builder()
+        .with_data(&a.slice_sum)
+        .create("angle_slice_sum")?;
+    g.new_dataset_builder()
+        .with_data(&a.slice_n)
+        .create("angle_slice_n")?;
+    g.new_attr::<f64>()
+        .create("angle_drum_sum")?
+        .write_scalar(&a.drum_sum)?;
+    g.new_attr::<u64>()
+        .create("angle_drum_n")?
+        .write_scalar(&a.drum_n)?;
+    g.new_dataset_builder()
+        .with_data(&d.path_ids)
+        .create("path_ids")?;
+    Ok(())
+}
+
+fn read_diag(f: &hdf5::File) -> hdf5::Result<DiagState> {
+    let g = f.group("diagnostics")?;
+    let sums = |name: &str| -> hdf5::Result<SavedSums> {
+        let hi: Vec<i64> = g.dataset(&format!("{name}_hi"))?.read_raw()?;
+        let lo: Vec<u64> = g.dataset(&format!("{name}_lo"))?.read_raw()?;
+        let v = hi
+            .iter()
+            .zip(&lo)
+            .map(|(&h, &l)| ((h as i128) << 64) | l as i128)
+            .collect();
+        Ok(SavedSums {
+            samples: g.attr(&format!("{name}_samples"))?.read_scalar()?,
+            angle_sum: g.attr(&format!("{name}_angle_sum"))?.read_scalar()?,
+            sums: v,
+        })
+    };
+    Ok(DiagState {
+        slices: sums("slices")?,
+        fields: sums("fields")?,
+        angles: AngleSums {
+            slice_sum: g.dataset("angle_slice_sum")?.read_raw()?,
+            slice_n: g.dataset("angle_slice_n")?.read_raw()?,
+            drum_sum: g.attr("angle_drum_sum")?.read_scalar()?,
+            drum_n: g.attr("angle_drum_n")?.read_scalar()?,
+        },
+        path_ids: g.dataset("path_ids")?.read_raw()?,
+    })
 }
 
 /// The checkpoint written next to an output file (`NAME.h5` -> `NAME.ckpt.h5`).
@@ -123,6 +219,7 @@ pub fn write(path: &Path, ck: &Checkpoint) -> Result<(), String> {
             .with_data(&hist)
             .create("history")
             .map_err(&e)?;
+        write_diag(&f, &ck.diag).map_err(&e)?;
         f.flush().map_err(&e)?;
     }
     let io = |x: std::io::Error| format!("checkpoint {}: {x}", path.display());
@@ -202,11 +299,19 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
         ));
     }
     let histories = (0..a.len()).map(|i| (a[i], b[i], t3(&h, i))).collect();
+    if !f.link_exists("diagnostics") {
+        return Err(format!(
+            "checkpoint {}: it was written by a tumbler without windowed diagnostics (before 0.2); finish that run with the version that started it",
+            path.display()
+        ));
+    }
+    let diag = read_diag(&f).map_err(&e)?;
     Ok(Checkpoint {
         case_text: case_text.as_str().to_string(),
         step,
         samples,
         particles,
         histories,
+        diag,
     })
 }

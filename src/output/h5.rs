@@ -13,6 +13,8 @@
 //! The file is written under `NAME.partial` and renamed to `NAME` once complete, so a file
 //! with the final name is always whole.
 
+use super::diag_file::DiagLayout;
+use super::series::describe;
 use crate::diag::AxialSample;
 use crate::particles::ParticleState;
 use hdf5::types::VarLenUnicode;
@@ -62,7 +64,12 @@ fn str_attr(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> {
 impl RunFile {
     /// Create the file (as `path.partial`) with its metadata and empty axial series over the
     /// slice centres `z`.
-    pub fn create(path: &Path, meta: &RunMeta, z: &[f64]) -> hdf5::Result<Self> {
+    pub fn create(
+        path: &Path,
+        meta: &RunMeta,
+        z: &[f64],
+        layout: &DiagLayout,
+    ) -> hdf5::Result<Self> {
         let partial_path = partial_path(path);
         let file = hdf5::File::create(&partial_path)?;
         str_attr(&file, "case", &meta.case_text)?;
@@ -75,10 +82,11 @@ impl RunFile {
         let axial = file.create_group("axial")?;
         str_attr(&axial, "species", &names)?;
         let (ns, nz) = (meta.species.len(), z.len());
-        axial
+        let zs = axial
             .new_dataset_builder()
             .with_data(&Array1::from(z.to_vec()))
             .create("z")?;
+        describe(&zs, LENGTH, "axial slice centres")?;
         let rotations = axial
             .new_dataset::<f64>()
             .chunk(64)
@@ -94,9 +102,14 @@ impl RunFile {
             .chunk((1, ns, nz))
             .shape((0.., ns, nz))
             .create("count")?;
-        str_attr(&rotations, "units", "drum rotations since time zero")?;
-        str_attr(&volume_fraction, "definition", "share of the particle volume in the slice held by each species (axes: sample, species, slice); NaN where the slice is empty")?;
-        str_attr(&count, "definition", "particles of each species whose centre lies in the slice (axes: sample, species, slice)")?;
+        describe(
+            &rotations,
+            "rotations",
+            "time of each axial sample, in drum rotations since time zero",
+        )?;
+        describe(&volume_fraction, "-", "share of the particle volume in the slice held by each species, <C_s>(z) (axes: sample, species, slice); NaN where the slice is empty")?;
+        describe(&count, "-", "particles of each species whose centre lies in the slice (axes: sample, species, slice)")?;
+        super::diag_file::create(&file, layout)?;
         Ok(RunFile {
             file,
             final_path: path.to_path_buf(),
@@ -121,6 +134,11 @@ impl RunFile {
                 .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
         }
         let file = hdf5::File::open_rw(&partial_path)?;
+        if !file.link_exists("slices") || !file.link_exists("axial/mean_axial_velocity") {
+            return Err(hdf5::Error::from(
+                "it was written by a tumbler without windowed diagnostics (before 0.2); finish that run with the version that started it",
+            ));
+        }
         if file.link_exists("particles") {
             file.unlink("particles")?;
         }
@@ -144,9 +162,13 @@ impl RunFile {
                 .as_str(),
             ));
         }
-        rotations.resize(samples)?;
-        volume_fraction.resize((samples, ns, nz))?;
-        count.resize((samples, ns, nz))?;
+        let axial = file.group("axial")?;
+        for name in axial.member_names()? {
+            let ds = axial.dataset(&name)?;
+            if ds.is_chunked() {
+                super::series::truncate(&ds, samples)?;
+            }
+        }
         let vf: Vec<f64> = volume_fraction.read_raw()?;
         let columns = (0..samples)
             .map(|t| vf[(t * ns + big) * nz..(t * ns + big + 1) * nz].to_vec())
@@ -167,8 +189,8 @@ impl RunFile {
         ))
     }
 
-    /// Append one axial sample taken at `rotations`.
-    pub fn append(&mut self, rotations: f64, s: &AxialSample) -> hdf5::Result<()> {
+    /// Append one axial sample taken at `rotations`, with its band count.
+    pub fn append(&mut self, rotations: f64, s: &AxialSample, bands: u64) -> hdf5::Result<()> {
         let t = self.samples;
         self.rotations.resize(t + 1)?;
         self.rotations
@@ -181,6 +203,7 @@ impl RunFile {
         let c = Array2::from_shape_vec((self.ns, self.nz), s.count.clone())
             .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
         self.count.write_slice(&c, (t, .., ..))?;
+        super::diag_file::append_axial(&self.file, &s.mean_axial_velocity, bands)?;
         self.samples += 1;
         // on disk after every sample, so that a job killed later leaves a readable file
         self.file.flush()
@@ -188,32 +211,66 @@ impl RunFile {
 
     /// Write the final particle state (sorted by id) under `/particles`.
     pub fn write_particles(&self, states: &[ParticleState]) -> hdf5::Result<()> {
-        let g = self.file.create_group("particles")?;
-        let n = states.len();
-        let vec3 = |f: fn(&ParticleState) -> [f64; 3]| {
-            Array2::from_shape_vec((n, 3), states.iter().flat_map(f).collect()).expect("n x 3")
-        };
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(states.iter().map(|s| s.id)))
-            .create("id")?;
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(states.iter().map(|s| s.species)))
-            .create("species")?;
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(states.iter().map(|s| s.diameter)))
-            .create("diameter")?;
-        g.new_dataset_builder()
-            .with_data(&vec3(|s| s.x))
-            .create("position")?;
-        g.new_dataset_builder()
-            .with_data(&vec3(|s| s.v))
-            .create("velocity")?;
-        g.new_dataset_builder()
-            .with_data(&vec3(|s| s.w))
-            .create("angular_velocity")?;
-        Ok(())
+        write_states(&self.file.create_group("particles")?, states)
     }
 
+    /// The open file, for the diagnostics' writers.
+    pub fn file(&self) -> &hdf5::File {
+        &self.file
+    }
+}
+
+/// Write particle states (sorted by id) as `id, species, diameter, position, velocity,
+/// angular_velocity` datasets in `g`.
+pub fn write_states(g: &hdf5::Group, states: &[ParticleState]) -> hdf5::Result<()> {
+    let n = states.len();
+    let vec3 = |f: fn(&ParticleState) -> [f64; 3]| {
+        Array2::from_shape_vec((n, 3), states.iter().flat_map(f).collect()).expect("n x 3")
+    };
+    let id = g
+        .new_dataset_builder()
+        .with_data(&Array1::from_iter(states.iter().map(|s| s.id)))
+        .create("id")?;
+    describe(
+        &id,
+        "-",
+        "particle id, stable for the whole run (rows sorted by it)",
+    )?;
+    let species = g
+        .new_dataset_builder()
+        .with_data(&Array1::from_iter(states.iter().map(|s| s.species)))
+        .create("species")?;
+    describe(&species, "-", "species index, in case order")?;
+    let diameter = g
+        .new_dataset_builder()
+        .with_data(&Array1::from_iter(states.iter().map(|s| s.diameter)))
+        .create("diameter")?;
+    describe(&diameter, LENGTH, "particle diameter")?;
+    for (name, f, units, def) in [
+        (
+            "position",
+            (|s| s.x) as fn(&ParticleState) -> [f64; 3],
+            LENGTH,
+            "centre, lab frame (z wrapped into the drum at periodic ends)",
+        ),
+        ("velocity", |s| s.v, "length/time", "velocity, lab frame"),
+        (
+            "angular_velocity",
+            |s| s.w,
+            "1/time",
+            "angular velocity, lab frame",
+        ),
+    ] {
+        let ds = g.new_dataset_builder().with_data(&vec3(f)).create(name)?;
+        describe(&ds, units, def)?;
+    }
+    Ok(())
+}
+
+/// Units of lengths in the file's attributes.
+const LENGTH: &str = "length (m for SI cases, small-particle diameters for reduced ones)";
+
+impl RunFile {
     /// Record a number as a root attribute (run statistics: `steps`, `rebuilds`,
     /// `migrations`, `histories_migrated`; pour: `pour_poured`, `pour_cut_height`,
     /// `pour_measured_fill`).

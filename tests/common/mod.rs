@@ -54,3 +54,52 @@ pub fn tmpdir() -> tempfile::TempDir {
 pub fn tmp_partial(out: &Path) -> PathBuf {
     tumbler::output::partial_path(out)
 }
+
+/// Every diagnostics dataset of an output (`/axial`, `/slices`, `/fields`, `/paths`), as
+/// bits, for exact comparisons between runs.
+pub fn diagnostics_bits(path: &Path) -> Vec<(String, Vec<u64>)> {
+    let f = hdf5::File::open(path).unwrap();
+    let mut out = Vec::new();
+    for group in ["axial", "slices", "fields", "paths"] {
+        if !f.link_exists(group) {
+            continue;
+        }
+        let g = f.group(group).unwrap();
+        let mut names = g.member_names().unwrap();
+        names.sort();
+        for name in names {
+            let ds = g.dataset(&name).unwrap();
+            let dt = ds.dtype().unwrap();
+            let v: Vec<u64> = if dt.is::<f64>() {
+                let x: Vec<f64> = ds.read_raw().unwrap();
+                x.iter().map(|v| v.to_bits()).collect()
+            } else if dt.is::<u8>() {
+                let x: Vec<u8> = ds.read_raw().unwrap();
+                x.iter().map(|&v| v as u64).collect()
+            } else {
+                ds.read_raw().unwrap()
+            };
+            out.push((format!("{group}/{name}"), v));
+        }
+    }
+    out
+}
+
+/// Assert two outputs hold the same diagnostics, bit for bit.
+pub fn assert_same_diagnostics(a: &Path, b: &Path, what: &str) {
+    let (x, y) = (diagnostics_bits(a), diagnostics_bits(b));
+    let names = |v: &[(String, Vec<u64>)]| v.iter().map(|d| d.0.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&x), names(&y), "{what}: datasets");
+    for ((name, u), (_, v)) in x.iter().zip(&y) {
+        let differing = u.iter().zip(v).filter(|(p, q)| p != q).count();
+        assert!(
+            u.len() == v.len() && differing == 0,
+            "{what}: {name} differs ({} vs {} values, {differing} differ)",
+            u.len(),
+            v.len()
+        );
+    }
+    let records = |name: &str| x.iter().find(|d| d.0 == name).map_or(0, |d| d.1.len());
+    assert!(records("slices/samples") > 0, "{what}: no slice windows");
+    assert!(records("fields/samples") > 0, "{what}: no field windows");
+}

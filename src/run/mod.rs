@@ -2,7 +2,7 @@
 
 use crate::case::{parse_case, Case, LoadedCase};
 use crate::comm::Comm;
-use crate::diag::AxialBins;
+use crate::diag::count_bands;
 use crate::engine::{Phase, Sim, PHASES};
 use crate::init::{initial_particles, pour};
 use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
@@ -11,6 +11,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
+
+mod diagnostics;
+pub use diagnostics::RunDiagnostics;
 
 /// Steps between checks of the stop flag (a global reduction).
 const STOP_CHECK_EVERY: u64 = 20;
@@ -78,14 +81,8 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
 pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd, String> {
     let case = &lc.case;
     let root = comm.rank() == 0;
-    let big = case
-        .species
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.diameter.total_cmp(&b.1.diameter))
-        .map(|(k, _)| k)
-        .unwrap_or(0);
     let mut pour_report = None;
+    let mut restored_diag = None;
     let (mut sim, resumed_samples) = match &opts.restart {
         Some(path) => {
             let ck = checkpoint::read(path);
@@ -106,6 +103,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                     sim.rotations()
                 );
             }
+            restored_diag = Some(ck.diag);
             (sim, Some(ck.samples))
         }
         None => {
@@ -140,12 +138,9 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
     };
     let n_total = sim.global_count();
 
-    let bins = AxialBins::new(
-        case.drum.axial_length(),
-        case.slice_width(),
-        case.species.len(),
-        case.d_max(),
-    );
+    let mut diags = RunDiagnostics::new(case, &sim, comm, &opts.output, restored_diag.as_ref())?;
+    let bins = diags.axial.clone();
+    let (band_rule, big) = (diags.rule, diags.big);
     // Open the output on rank 0 only once everything else is known to be fine.
     let mut file = None;
     let mut columns: Vec<Vec<f64>> = Vec::new();
@@ -160,9 +155,10 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             Some(samples)
                 if opts.output.exists() || crate::output::partial_path(&opts.output).exists() =>
             {
-                RunFile::reopen(&opts.output, samples as usize, big).map(|(f, c)| {
+                RunFile::reopen(&opts.output, samples as usize, big).and_then(|(f, c)| {
                     columns = c;
-                    f
+                    diags.resume_file(&f, sim.step)?;
+                    Ok(f)
                 })
             }
             _ if opts.output.exists() && !opts.overwrite => {
@@ -172,7 +168,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                 );
                 Err(hdf5::Error::from("exists"))
             }
-            _ => RunFile::create(&opts.output, &meta, &bins.centres()),
+            _ => RunFile::create(&opts.output, &meta, &bins.centres(), &diags.layout()),
         };
         match opened {
             Ok(f) => file = Some(f),
@@ -218,8 +214,10 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                 );
                 ok = false;
             }
-            columns.push(s.volume_fraction[big * bins.nz..(big + 1) * bins.nz].to_vec());
-            if let Err(e) = f.append(sim.rotations(), &s) {
+            let profile = &s.volume_fraction[big * bins.nz..(big + 1) * bins.nz];
+            let bands = count_bands(profile, &band_rule) as u64;
+            columns.push(profile.to_vec());
+            if let Err(e) = f.append(sim.rotations(), &s, bands) {
                 log::error!("writing the axial sample: {e}");
                 ok = false;
             }
@@ -237,6 +235,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         Some(k) => k,
         None => {
             sample(&mut sim, &mut file)?;
+            diags.after_step(&sim, comm, file.as_ref())?;
             1
         }
     };
@@ -259,6 +258,9 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             }
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
+        let t0 = Instant::now();
+        diags.after_step(&sim, comm, file.as_ref())?;
+        sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         if sim.step % STOP_CHECK_EVERY == 0 {
             let health = sim.health(case.run.max_overlap);
             if let Err(e) = &health {
@@ -274,7 +276,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             if sim.step % STOP_CHECK_EVERY == 0 && !comm.all_ok(!stop.load(Ordering::SeqCst)) {
                 // every rank finishes this step, then the state is saved and the run stops;
                 // the output stays NAME.partial for the restart to continue
-                save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
+                save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
                 drop(file);
                 if root {
                     log::warn!(
@@ -292,7 +294,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
         if ck_every.is_some_and(|k| sim.step % k == 0) && sim.step < total {
             let t0 = Instant::now();
-            save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
+            save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
         if root && sim.step % progress_every == 0 {
@@ -311,7 +313,8 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
     }
     let seconds = start.elapsed().as_secs_f64();
-    save_checkpoint(&sim, &lc.text, scheduled, &ck_path)?;
+    save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
+    diags.finish(&sim, comm, file.as_ref())?;
 
     let states = sim.gather_sorted();
     let migrations = comm.sum_u64(sim.migrated);
@@ -381,7 +384,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
 }
 
 /// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes).
-fn save_checkpoint(sim: &Sim, case_text: &str, samples: u64, path: &Path) -> Result<(), String> {
+fn save_checkpoint(
+    sim: &Sim,
+    diags: &mut RunDiagnostics,
+    case_text: &str,
+    samples: u64,
+    path: &Path,
+) -> Result<(), String> {
+    let diag = diags.state(sim.comm());
     let particles = sim.gather_sorted();
     let histories = sim.gather_histories();
     let mut err = String::new();
@@ -392,6 +402,7 @@ fn save_checkpoint(sim: &Sim, case_text: &str, samples: u64, path: &Path) -> Res
             samples,
             particles,
             histories,
+            diag,
         };
         if let Err(e) = checkpoint::write(path, &ck) {
             err = e;
@@ -436,6 +447,16 @@ fn check_compatible(text: &str, case: &Case, allow: bool, path: &Path) -> Result
     .into_iter()
     .filter_map(|(k, d)| d.then_some(k))
     .collect();
+    // the windows in progress and the file's series follow the diagnostics' schedule and
+    // grids: those cannot change mid-run, even when asked
+    if format!("{:?}", old.diagnostics) != format!("{:?}", case.diagnostics)
+        || old.output.slice_width != case.output.slice_width
+    {
+        return Err(format!(
+            "checkpoint {} comes from a case with different diagnostics (diagnostics.* or output.slice_width); the windows in progress and the series in the file follow them, so they cannot change in a restart",
+            path.display()
+        ));
+    }
     if differ.is_empty() || allow {
         if !differ.is_empty() {
             log::warn!("restarting with a different {}", differ.join(", "));

@@ -1,0 +1,327 @@
+//! The diagnostics' part of the run's HDF5 file: `/slices`, `/fields`, `/paths`,
+//! `/snapshots` and the per-sample additions to `/axial` (layout in `docs/diagnostics.md`).
+
+use super::series::{self, str_attr};
+use crate::diag::fields::FieldWindow;
+use crate::diag::{BandRule, SliceRecord};
+use crate::particles::ParticleState;
+use hdf5::{File, Group};
+
+/// Shapes of the diagnostics' datasets.
+#[derive(Debug, Clone)]
+pub struct DiagLayout {
+    /// Number of species.
+    pub ns: usize,
+    /// Axial slice centres.
+    pub z: Vec<f64>,
+    /// Cross-section bin centres along the surface frame's `x` and `y`.
+    pub x: Vec<f64>,
+    /// See `x`.
+    pub y: Vec<f64>,
+    /// Axial centres of the field bins.
+    pub zf: Vec<f64>,
+    /// Ids of the particles whose paths are recorded.
+    pub path_ids: Vec<u64>,
+    /// The band rule and the species counted.
+    pub bands: BandRule,
+    /// Index of the species whose bands are counted.
+    pub band_species: usize,
+}
+
+const LEN: &str = "length (m for SI cases, small-particle diameters for reduced ones)";
+const VEL: &str = "length/time";
+
+fn group(file: &File, name: &str) -> hdf5::Result<Group> {
+    if file.link_exists(name) {
+        file.group(name)
+    } else {
+        file.create_group(name)
+    }
+}
+
+/// Create every diagnostics dataset, empty.
+pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
+    let (ns, nz, nx, ny, nzf) = (l.ns, l.z.len(), l.x.len(), l.y.len(), l.zf.len());
+    let axial = group(file, "axial")?;
+    series::create::<f64>(&axial, "mean_axial_velocity", &[ns, nz], VEL,
+        "mean axial velocity w of the species' particles whose centre lies in the slice (axes: sample, species, slice); NaN where there are none")?;
+    let bands = series::create::<u64>(&axial, "bands", &[], "-",
+        "number of segregation bands in the big species' volume-fraction profile (docs/diagnostics.md: departure from the drum mean beyond `threshold`, runs of at least `min_slices` slices, wrapped when `periodic`)")?;
+    bands
+        .new_attr::<f64>()
+        .create("threshold")?
+        .write_scalar(&l.bands.threshold)?;
+    bands
+        .new_attr::<u64>()
+        .create("min_slices")?
+        .write_scalar(&(l.bands.min_slices as u64))?;
+    bands
+        .new_attr::<u64>()
+        .create("periodic")?
+        .write_scalar(&(l.bands.periodic as u64))?;
+    bands
+        .new_attr::<u64>()
+        .create("species")?
+        .write_scalar(&(l.band_species as u64))?;
+
+    let s = group(file, "slices")?;
+    str_attr(&s, "definition", "per-slice diagnostics averaged over windows of diagnostics.window rotations (thesis 4.5, appendix A)")?;
+    series::fixed(&s, "z", &[nz], &l.z, LEN, "axial slice centres")?;
+    series::fixed(
+        &s,
+        "x",
+        &[nx],
+        &l.x,
+        LEN,
+        "streamwise bin centres of the cross-section (surface frame)",
+    )?;
+    series::fixed(
+        &s,
+        "y",
+        &[ny],
+        &l.y,
+        LEN,
+        "surface-normal bin centres of the cross-section (surface frame)",
+    )?;
+    window_bounds(&s)?;
+    for (name, row, units, def) in [
+        ("angle", vec![nz], "degrees", "dynamic angle of repose per slice, mean over the window's samples"),
+        ("angle_drum", vec![], "degrees", "dynamic angle of repose of the whole drum, window mean"),
+        ("concentration", vec![ns, nz], "-", "<C_s>: species' share of the particle volume in the slice over the window"),
+        ("mean_axial_velocity", vec![ns, nz], VEL, "<w_s> = <C_s w_s>/<C_s>, volume-weighted mean axial velocity of the species"),
+        ("mixture_axial_velocity", vec![nz], VEL, "<w>, volume-weighted mean axial velocity of all particles in the slice"),
+        ("q_up", vec![ns, nz], "length^3/time", "upstream axial flow rate sum_i w_i n_i S_i V / 0.64 over the bins with x < split_x (thesis 4.5)"),
+        ("q_down", vec![ns, nz], "length^3/time", "downstream axial flow rate: the same over the bins with x >= split_x"),
+        ("q_up_mixture", vec![nz], "length^3/time", "q_up summed over species"),
+        ("q_down_mixture", vec![nz], "length^3/time", "q_down summed over species"),
+        ("relative_flux", vec![ns, nz], VEL, "<C_s>(<w_s> - <w>)"),
+        ("gradient", vec![ns, nz], "1/length", "d<C_s>/dz by central differences (wrapped at periodic ends, one-sided at caps)"),
+        ("diffusivity", vec![ns, nz], "length^2/time", "K from <C_s>(<w_s> - <w>) = -K d<C_s>/dz (thesis appendix A); NaN where the gradient is zero"),
+        ("split_x", vec![nz, ny], LEN, "streamwise position separating upstream (x < split_x) from downstream bins, per slice and depth row; NaN for empty rows"),
+    ] {
+        series::create::<f64>(&s, name, &row, units, def)?;
+    }
+    series::create::<u8>(&s, "split_by_sign", &[nz, ny], "-",
+        "1 where split_x is the sign change of the mixture's axial velocity along x nearest x = 0 (the thesis' rule), 0 where w keeps its sign and x = 0 is used")?;
+
+    let f = group(file, "fields")?;
+    str_attr(&f, "definition", "binned fields in the surface frame averaged over windows of diagnostics.fields.window rotations (thesis 2.2.3, ch. 3)")?;
+    series::fixed(
+        &f,
+        "x",
+        &[nx],
+        &l.x,
+        LEN,
+        "streamwise bin centres (surface frame, down the free surface)",
+    )?;
+    series::fixed(
+        &f,
+        "y",
+        &[ny],
+        &l.y,
+        LEN,
+        "surface-normal bin centres (surface frame, out of the bed)",
+    )?;
+    series::fixed(&f, "z", &[nzf], &l.zf, LEN, "axial bin centres")?;
+    window_bounds(&f)?;
+    let grid = |lead: usize| vec![lead, nx, ny, nzf];
+    for (name, row, units, def) in [
+        ("angle", vec![], "degrees", "mean angle of the surface frame over the window"),
+        ("number_density", grid(ns), "1/length^3", "particles of each species per unit volume"),
+        ("volume_fraction", grid(ns), "-", "particle volume of each species per bin volume (centre binning)"),
+        ("velocity", grid(3), VEL, "mean (u, v, w) of all particles in the bin, lab frame, surface-frame components; NaN in empty bins"),
+        ("velocity_drum", grid(3), VEL, "mean (u, v, w) in the drum frame (solid-body rotation removed)"),
+        ("rms", grid(4), VEL, "u_rms, v_rms, w_rms of the drum-frame velocity about the bin mean, and sqrt(u_rms^2 + v_rms^2 + w_rms^2)"),
+        ("axial_flux", grid(ns), "1/(length^2 time)", "n_s w_s: particles of each species crossing unit area along z per unit time"),
+        ("u0", vec![], VEL, "drum-frame streamwise velocity at the free surface at the centre (x = 0, z = 0)"),
+        ("surface", vec![nx, nzf], LEN, "y of the top of the highest bin with volume fraction >= 0.25"),
+        ("boundary", vec![nx, nzf], LEN, "lower edge of the flowing layer: y where the drum-frame streamwise velocity falls to 0.05 u0 below the surface; NaN where the column does not flow"),
+        ("depth", vec![nx, nzf], LEN, "flowing-layer depth: surface - boundary"),
+    ] {
+        series::create::<f64>(&f, name, &row, units, def)?;
+    }
+
+    if !l.path_ids.is_empty() {
+        let p = group(file, "paths")?;
+        series::fixed(
+            &p,
+            "id",
+            &[l.path_ids.len()],
+            &l.path_ids,
+            "-",
+            "ids of the particles followed",
+        )?;
+        series::create::<f64>(
+            &p,
+            "rotations",
+            &[],
+            "rotations",
+            "time of each path sample",
+        )?;
+        let np = l.path_ids.len();
+        series::create::<f64>(&p, "position", &[np, 3], LEN, "lab-frame position (axes: sample, particle, component); NaN if the particle does not exist")?;
+        series::create::<f64>(
+            &p,
+            "velocity",
+            &[np, 3],
+            VEL,
+            "lab-frame velocity (axes: sample, particle, component)",
+        )?;
+    }
+    Ok(())
+}
+
+fn window_bounds(g: &Group) -> hdf5::Result<()> {
+    series::create::<f64>(
+        g,
+        "rotations_start",
+        &[],
+        "rotations",
+        "start of each window",
+    )?;
+    series::create::<f64>(g, "rotations_end", &[], "rotations", "end of each window")?;
+    series::create::<u64>(g, "samples", &[], "-", "samples averaged in each window")?;
+    Ok(())
+}
+
+fn put<T: hdf5::H5Type>(file: &File, name: &str, record: &[T]) -> hdf5::Result<()> {
+    series::append(&file.dataset(name)?, record)
+}
+
+/// Append the per-sample additions to `/axial`.
+pub fn append_axial(file: &File, mean_axial_velocity: &[f64], bands: u64) -> hdf5::Result<()> {
+    put(file, "axial/mean_axial_velocity", mean_axial_velocity)?;
+    put(file, "axial/bands", &[bands])
+}
+
+/// Append one window of per-slice diagnostics over `(start, end)` rotations.
+pub fn append_slices(file: &File, start: f64, end: f64, r: &SliceRecord) -> hdf5::Result<()> {
+    let s = &r.slices;
+    put(file, "slices/rotations_start", &[start])?;
+    put(file, "slices/rotations_end", &[end])?;
+    put(file, "slices/samples", &[s.samples])?;
+    put(file, "slices/angle", &r.angle)?;
+    put(file, "slices/angle_drum", &[r.angle_drum])?;
+    for (name, v) in [
+        ("concentration", &s.concentration),
+        ("mean_axial_velocity", &s.mean_axial_velocity),
+        ("mixture_axial_velocity", &s.mixture_axial_velocity),
+        ("q_up", &s.q_up),
+        ("q_down", &s.q_down),
+        ("q_up_mixture", &s.q_up_mixture),
+        ("q_down_mixture", &s.q_down_mixture),
+        ("relative_flux", &s.relative_flux),
+        ("gradient", &s.gradient),
+        ("diffusivity", &s.diffusivity),
+        ("split_x", &s.split_x),
+    ] {
+        put(file, &format!("slices/{name}"), v)?;
+    }
+    put(file, "slices/split_by_sign", &s.split_by_sign)?;
+    file.flush()
+}
+
+/// Append one window of binned fields over `(start, end)` rotations.
+pub fn append_fields(file: &File, start: f64, end: f64, w: &FieldWindow) -> hdf5::Result<()> {
+    put(file, "fields/rotations_start", &[start])?;
+    put(file, "fields/rotations_end", &[end])?;
+    put(file, "fields/samples", &[w.samples])?;
+    put(file, "fields/angle", &[w.angle])?;
+    put(file, "fields/u0", &[w.u0])?;
+    for (name, v) in [
+        ("number_density", &w.number_density),
+        ("volume_fraction", &w.volume_fraction),
+        ("velocity", &w.velocity),
+        ("velocity_drum", &w.velocity_drum),
+        ("rms", &w.rms),
+        ("axial_flux", &w.axial_flux),
+        ("surface", &w.surface),
+        ("boundary", &w.boundary),
+        ("depth", &w.depth),
+    ] {
+        put(file, &format!("fields/{name}"), v)?;
+    }
+    file.flush()
+}
+
+/// Append one path sample (`P x 6`: position, velocity per particle).
+pub fn append_path(file: &File, rotations: f64, data: &[f64]) -> hdf5::Result<()> {
+    let pos: Vec<f64> = data.chunks_exact(6).flat_map(|r| r[..3].to_vec()).collect();
+    let vel: Vec<f64> = data.chunks_exact(6).flat_map(|r| r[3..].to_vec()).collect();
+    put(file, "paths/rotations", &[rotations])?;
+    put(file, "paths/position", &pos)?;
+    put(file, "paths/velocity", &vel)?;
+    file.flush()
+}
+
+/// Name of the snapshot group of `step`.
+pub fn snapshot_name(step: u64) -> String {
+    format!("snapshots/{step:010}")
+}
+
+/// Write a snapshot of every particle (sorted by id) taken at `step`.
+pub fn write_snapshot(
+    file: &File,
+    step: u64,
+    rotations: f64,
+    states: &[ParticleState],
+) -> hdf5::Result<()> {
+    group(file, "snapshots")?;
+    let g = file.create_group(&snapshot_name(step))?;
+    super::h5::write_states(&g, states)?;
+    g.new_attr::<u64>().create("step")?.write_scalar(&step)?;
+    g.new_attr::<f64>()
+        .create("rotations")?
+        .write_scalar(&rotations)?;
+    file.flush()
+}
+
+/// The snapshots in the file: `(group name, rotations, particles)` in step order.
+pub fn snapshots(file: &File) -> hdf5::Result<Vec<(String, f64, usize)>> {
+    if !file.link_exists("snapshots") {
+        return Ok(Vec::new());
+    }
+    let mut names = file.group("snapshots")?.member_names()?;
+    names.sort();
+    names
+        .into_iter()
+        .map(|n| {
+            let g = file.group(&format!("snapshots/{n}"))?;
+            let rot: f64 = g.attr("rotations")?.read_scalar()?;
+            let count = g.dataset("id")?.size();
+            Ok((format!("snapshots/{n}"), rot, count))
+        })
+        .collect()
+}
+
+/// Cut the diagnostics back to what a checkpoint at `step` had written: `slices` and
+/// `fields` windows, `paths` samples, and snapshots up to `step`.
+pub fn truncate(
+    file: &File,
+    slices: usize,
+    fields: usize,
+    paths: usize,
+    step: u64,
+) -> hdf5::Result<()> {
+    for (grp, n) in [("slices", slices), ("fields", fields), ("paths", paths)] {
+        if !file.link_exists(grp) {
+            continue;
+        }
+        let g = file.group(grp)?;
+        for name in g.member_names()? {
+            let ds = g.dataset(&name)?;
+            if ds.is_chunked() {
+                series::truncate(&ds, n)?;
+            }
+        }
+    }
+    if file.link_exists("snapshots") {
+        let g = file.group("snapshots")?;
+        for name in g.member_names()? {
+            if name.parse::<u64>().is_ok_and(|s| s > step) {
+                g.unlink(&name)?;
+            }
+        }
+    }
+    Ok(())
+}
