@@ -190,15 +190,15 @@ fn overlapping_or_outside_particles_are_refused() {
     };
     for (p2, why) in [
         (
-            "diameter = 0.002\nposition = [0.0, -0.01, 0.0019]",
-            "overlap by 5.00 %",
+            "diameter = 0.002\nposition = [0.0, -0.01, 0.0014]",
+            "overlap by 30.00 %",
         ),
         (
-            "diameter = 0.002\nposition = [0.0, -0.0145, 0.01]",
+            "diameter = 0.002\nposition = [0.0, -0.0149, 0.01]",
             "is not inside the drum",
         ),
         (
-            "diameter = 0.002\nposition = [0.0, 0.0, 0.0199]",
+            "diameter = 0.002\nposition = [0.0, 0.0, 0.0201]",
             "is not inside the drum",
         ),
         // species 0 is 2 mm with s.d. 0.1: at most 2.6 mm

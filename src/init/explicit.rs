@@ -1,14 +1,11 @@
 //! Initial states given particle by particle: `[[init.particle]]` tables in the case, or an
 //! HDF5 file with the `/particles` layout of a run's output (so a run can start from an
 //! edited state or a bed poured elsewhere). Particles must lie inside the drum and may not
-//! overlap by more than 1 % of the smaller diameter.
+//! overlap by more than `run.max_overlap` of the smaller diameter.
 
 use crate::case::{Case, Shape};
 use crate::particles::ParticleState;
 use std::collections::HashMap;
-
-/// Largest accepted overlap, relative to the smaller diameter.
-pub const MAX_OVERLAP: f64 = 0.01;
 
 /// The particles of `case` (`init.kind = "particles"`), sorted by id.
 pub fn explicit(case: &Case) -> Result<Vec<ParticleState>, String> {
@@ -86,6 +83,7 @@ fn read_file(path: &str) -> Result<Vec<ParticleState>, String> {
 fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
     let radius = 0.5 * case.drum.diameter;
     let half = 0.5 * case.drum.axial_length();
+    let max_overlap = case.run.max_overlap;
     for w in ps.windows(2) {
         if w[0].id == w[1].id {
             return Err(format!("init: particle id {} appears twice", w[0].id));
@@ -115,8 +113,9 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
                 p.id, p.diameter, p.species
             ));
         }
-        // a wall overlap of up to MAX_OVERLAP of the diameter is accepted, as between particles
-        let r = 0.5 * p.diameter - MAX_OVERLAP * p.diameter;
+        // overlaps up to the run's health limit are accepted (with walls as between particles):
+        // a settled bed of soft particles, a run's own output, overlaps by several percent
+        let r = 0.5 * p.diameter - max_overlap * p.diameter;
         let x = p.x;
         let outside = match case.drum.shape {
             Shape::Sphere => (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + r > radius,
@@ -164,10 +163,10 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
                             .sum::<f64>()
                             .sqrt();
                         let overlap = 0.5 * (p.diameter + q.diameter) - d;
-                        if overlap > MAX_OVERLAP * p.diameter.min(q.diameter) {
+                        if overlap > max_overlap * p.diameter.min(q.diameter) {
                             return Err(format!(
-                                "init: particles {} and {} overlap by {:.2} % of the smaller diameter (at most {} % is accepted)",
-                                p.id, q.id, 100.0 * overlap / p.diameter.min(q.diameter), 100.0 * MAX_OVERLAP
+                                "init: particles {} and {} overlap by {:.2} % of the smaller diameter (at most {} % is accepted: run.max_overlap)",
+                                p.id, q.id, 100.0 * overlap / p.diameter.min(q.diameter), 100.0 * max_overlap
                             ));
                         }
                     }

@@ -4,7 +4,7 @@ mod explicit;
 mod lattice;
 pub mod pour;
 
-pub use explicit::{explicit, MAX_OVERLAP};
+pub use explicit::explicit;
 pub use lattice::{fcc_spacing, lattice};
 
 use crate::case::{Case, InitKind};
