@@ -143,7 +143,7 @@ fn a_killed_rank_ends_the_job_and_the_checkpoint_restarts() {
 
     let mut child = spawn(2, &part, &args);
     let ck = dir.path().join("part.ckpt.h5");
-    wait_for("a checkpoint", Duration::from_secs(60), || ck.exists());
+    wait_for("a checkpoint", Duration::from_secs(300), || ck.exists());
     let pids = ranks_of(&part);
     assert_eq!(pids.len(), 2);
     let t0 = Instant::now();

@@ -403,8 +403,21 @@ pub struct Run {
     /// run stops as unhealthy.
     #[serde(default = "default_max_overlap")]
     pub max_overlap: f64,
+    /// Interval between load-balance checks, in rotations (the slab boundaries move when
+    /// the work per rank is uneven).
+    #[serde(default = "default_balance_every")]
+    pub balance_every: f64,
+    /// Largest accepted imbalance (max / mean work per rank) before the boundaries move.
+    #[serde(default = "default_balance_tolerance")]
+    pub balance_tolerance: f64,
 }
 
+fn default_balance_every() -> f64 {
+    1.0
+}
+fn default_balance_tolerance() -> f64 {
+    1.05
+}
 fn default_max_overlap() -> f64 {
     0.25
 }

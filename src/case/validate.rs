@@ -379,6 +379,17 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
         );
     }
 
+    c.positive("run.balance_every", case.run.balance_every);
+    if !(case.run.balance_tolerance.is_finite() && case.run.balance_tolerance >= 1.0) {
+        c.bad(
+            "run.balance_tolerance",
+            format!(
+                "must be at least 1 (max / mean work per rank), got {}",
+                case.run.balance_tolerance
+            ),
+        );
+    }
+
     let o = &case.output;
     c.positive("output.sample_every", o.sample_every);
     c.positive("output.progress_every", o.progress_every);

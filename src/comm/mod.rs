@@ -30,6 +30,8 @@ pub trait Comm {
     fn max_f64_all(&self, v: &mut [f64]);
     /// Sum of `x` over all ranks, on every rank.
     fn sum_u64(&self, x: u64) -> u64;
+    /// Element-wise sum of `v` over all ranks, on every rank.
+    fn sum_u64_all(&self, v: &mut [u64]);
     /// Element-wise sum of `v` over all ranks, delivered to rank 0 (others get `v` unchanged).
     fn sum_i64_to_root(&self, v: &mut [i64]);
     /// Concatenation of every rank's `local` in rank order, on rank 0 (`None` elsewhere).

@@ -102,6 +102,13 @@ impl Comm for MpiComm {
         y
     }
 
+    fn sum_u64_all(&self, v: &mut [u64]) {
+        let mut out = vec![0u64; v.len()];
+        self.world
+            .all_reduce_into(&v[..], &mut out[..], SystemOperation::sum());
+        v.copy_from_slice(&out);
+    }
+
     fn sum_i64_to_root(&self, v: &mut [i64]) {
         let root = self.world.process_at_rank(0);
         if self.rank() == 0 {

@@ -40,6 +40,7 @@ impl Comm for SerialComm {
     fn sum_u64(&self, x: u64) -> u64 {
         x
     }
+    fn sum_u64_all(&self, _v: &mut [u64]) {}
     fn sum_i64_to_root(&self, _v: &mut [i64]) {}
     fn gather_f64(&self, local: &[f64]) -> Option<Vec<f64>> {
         Some(local.to_vec())

@@ -32,7 +32,8 @@ pub fn pair_forces(
     for t in p.t.iter_mut() {
         *t = [0.0; 3];
     }
-    for (&(a, b), hist) in nl.pairs.iter().zip(nl.hist.iter_mut()) {
+    let full_size = scale == 1.0;
+    for ((&(a, b), hist), &cut2) in nl.pairs.iter().zip(nl.hist.iter_mut()).zip(&nl.cut2) {
         let (a, b) = (a as usize, b as usize);
         let xa = p.x[a];
         let xb = p.x[b];
@@ -43,9 +44,16 @@ pub fn pair_forces(
         let r = V3::new(xa[0] - xb[0], xa[1] - xb[1], dz);
         // Most listed pairs are within the skin but not touching: reject them before
         // gathering their velocities (the law makes the same test, bit for bit).
-        let rc = law.cutoff(p.diameter[a] * scale, p.diameter[b] * scale);
-        if r.norm_squared() >= rc * rc {
-            *hist = [0.0; 3];
+        let rc2 = if full_size {
+            cut2
+        } else {
+            let rc = law.cutoff(p.diameter[a] * scale, p.diameter[b] * scale);
+            rc * rc
+        };
+        if r.norm_squared() >= rc2 {
+            if *hist != [0.0; 3] {
+                *hist = [0.0; 3];
+            }
             continue;
         }
         let (ba, bb) = (body(p, a, scale), body(p, b, scale));

@@ -1,5 +1,6 @@
 //! The slab-decomposed engine: particles, halo, neighbour lists, forces and the step loop.
 
+pub mod balance;
 pub mod forces;
 pub mod halo;
 pub mod neighbor;

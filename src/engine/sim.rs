@@ -1,5 +1,6 @@
 //! The simulation state of one rank and the step loop.
 
+use super::balance;
 use super::forces::{pair_forces, wall_and_body_forces};
 use super::halo::{self, Halo};
 use super::neighbor::{Grid, NeighborList, SavedHistory};
@@ -299,7 +300,8 @@ impl<'c> Sim<'c> {
         let (nl, p, skin, law, reach) = (&mut self.nl, &self.p, self.skin, &self.law, self.reach);
         self.timers.time(Phase::Neighbor, || {
             // cells over the particles' bounding box: they grow with the bed, not the drum
-            nl.build(p, &Grid::around(p, reach, box_lo, box_hi), skin, law);
+            let cell = reach / super::neighbor::SPAN as f64;
+            nl.build(p, &Grid::around(p, cell, box_lo, box_hi), skin, law);
             if history {
                 nl.attach_histories(p, &saved);
             }
@@ -336,6 +338,58 @@ impl<'c> Sim<'c> {
         self.p.remove_owned(&leave);
         self.rebuild_with(saved);
         self.forces_advancing(false);
+    }
+
+    /// Work per rank (particles plus listed pairs) with the current slabs, on every rank.
+    pub fn work_per_rank(&self) -> Vec<u64> {
+        let (hist, z0, length) = self.work_histogram();
+        balance::work_per_slab(&hist, z0, length, &self.slabs.bounds)
+    }
+
+    /// The work histogram along the axis, summed over all ranks: each owned particle counts
+    /// one plus the listed pairs it belongs to, in bins a quarter of the interaction range.
+    fn work_histogram(&self) -> (Vec<u64>, f64, f64) {
+        let length = self.slabs.length;
+        let z0 = -0.5 * length;
+        let nb = ((4.0 * length / self.reach).ceil() as usize).clamp(1, 1 << 20);
+        let mut per = vec![1u64; self.p.len()];
+        for &(a, b) in &self.nl.pairs {
+            per[a as usize] += 1;
+            per[b as usize] += 1;
+        }
+        let mut hist = vec![0u64; nb];
+        for i in 0..self.p.n_owned {
+            let k = ((self.p.x[i][2] - z0) / length * nb as f64).floor();
+            hist[(k.max(0.0) as usize).min(nb - 1)] += per[i];
+        }
+        self.comm.sum_u64_all(&mut hist);
+        (hist, z0, length)
+    }
+
+    /// Move the slab boundaries so that every rank has the same work, if the imbalance
+    /// (max / mean work per rank) exceeds `tolerance`; all ranks call this together. The
+    /// particles move to their new owners at once (a rebuild). Returns the imbalance before
+    /// and after.
+    pub fn rebalance(&mut self, tolerance: f64) -> (f64, f64) {
+        let (hist, z0, length) = self.work_histogram();
+        let before = balance::imbalance(&balance::work_per_slab(
+            &hist,
+            z0,
+            length,
+            &self.slabs.bounds,
+        ));
+        if before <= tolerance || self.comm.size() == 1 {
+            return (before, before);
+        }
+        let bounds = balance::balanced_bounds(&hist, z0, length, self.comm.size(), self.reach);
+        let after = balance::imbalance(&balance::work_per_slab(&hist, z0, length, &bounds));
+        if after < before {
+            self.slabs.bounds = bounds;
+            self.rebuild();
+            (before, after)
+        } else {
+            (before, before)
+        }
     }
 
     /// Recompute the forces of the current state (after changing gravity, walls or scale).

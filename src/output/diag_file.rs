@@ -171,6 +171,62 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
     Ok(())
 }
 
+/// Prepare the load-balance series for `ranks` slabs: new, or after a restart cut back to
+/// `keep` records (started afresh when the rank count changed, as the bounds' shape does).
+pub fn prepare_balance(file: &File, ranks: usize, keep: Option<usize>) -> hdf5::Result<()> {
+    if file.link_exists("balance") {
+        let same = file.dataset("balance/bounds")?.shape().get(1) == Some(&(ranks + 1));
+        if let (true, Some(n)) = (same, keep) {
+            let g = file.group("balance")?;
+            for name in g.member_names()? {
+                let ds = g.dataset(&name)?;
+                series::truncate(&ds, n.min(ds.shape()[0]))?;
+            }
+            return Ok(());
+        }
+        file.unlink("balance")?;
+    }
+    let g = group(file, "balance")?;
+    str_attr(&g, "definition", "load-balance checks every run.balance_every rotations: work per rank = particles + listed pairs it evaluates")?;
+    series::create::<f64>(&g, "rotations", &[], "rotations", "time of each check")?;
+    series::create::<f64>(
+        &g,
+        "imbalance_before",
+        &[],
+        "-",
+        "max / mean work per rank with the slabs as they were",
+    )?;
+    series::create::<f64>(
+        &g,
+        "imbalance_after",
+        &[],
+        "-",
+        "max / mean work per rank with the slabs after the check (the same if they did not move)",
+    )?;
+    series::create::<f64>(
+        &g,
+        "bounds",
+        &[ranks + 1],
+        LEN,
+        "slab boundaries after the check, from -L/2 to L/2",
+    )?;
+    Ok(())
+}
+
+/// Append one load-balance check.
+pub fn append_balance(
+    file: &File,
+    rotations: f64,
+    before: f64,
+    after: f64,
+    bounds: &[f64],
+) -> hdf5::Result<()> {
+    put(file, "balance/rotations", &[rotations])?;
+    put(file, "balance/imbalance_before", &[before])?;
+    put(file, "balance/imbalance_after", &[after])?;
+    put(file, "balance/bounds", bounds)
+}
+
 fn window_bounds(g: &Group) -> hdf5::Result<()> {
     series::create::<f64>(
         g,

@@ -143,7 +143,13 @@ impl RunFile {
             file.unlink("particles")?;
         }
         let names = file.attr_names()?;
-        for a in ["steps", "rebuilds", "migrations", "histories_migrated"] {
+        for a in [
+            "steps",
+            "rebuilds",
+            "migrations",
+            "histories_migrated",
+            "peak_rss_bytes_per_rank",
+        ] {
             if names.iter().any(|n| n == a) {
                 file.delete_attr(a)?;
             }

@@ -6,7 +6,7 @@ use crate::diag::count_bands;
 use crate::engine::{Phase, Sim, PHASES};
 use crate::init::{initial_particles, pour};
 use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
-use crate::output::{spacetime, RunFile, RunMeta};
+use crate::output::{diag_file, spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -140,6 +140,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
 
     let mut diags = RunDiagnostics::new(case, &sim, comm, &opts.output, restored_diag.as_ref())?;
     let bins = diags.axial.clone();
+    let balance_steps = steps_for(case.run.balance_every, case.drum.omega, case.dt()).max(1);
     let (band_rule, big) = (diags.rule, diags.big);
     // Open the output on rank 0 only once everything else is known to be fine.
     let mut file = None;
@@ -158,6 +159,8 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                 RunFile::reopen(&opts.output, samples as usize, big).and_then(|(f, c)| {
                     columns = c;
                     diags.resume_file(&f, sim.step)?;
+                    let checks = (sim.step / balance_steps) as usize + 1;
+                    diag_file::prepare_balance(f.file(), comm.size(), Some(checks))?;
                     Ok(f)
                 })
             }
@@ -168,7 +171,12 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                 );
                 Err(hdf5::Error::from("exists"))
             }
-            _ => RunFile::create(&opts.output, &meta, &bins.centres(), &diags.layout()),
+            _ => RunFile::create(&opts.output, &meta, &bins.centres(), &diags.layout()).and_then(
+                |f| {
+                    diag_file::prepare_balance(f.file(), comm.size(), None)?;
+                    Ok(f)
+                },
+            ),
         };
         match opened {
             Ok(f) => file = Some(f),
@@ -231,11 +239,13 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
 
     // Samples on the schedule (every `every` steps) are what a checkpoint counts; a final
     // sample off the schedule is written but dropped again by a restart.
+    let mut imbalance = 1.0;
     let mut scheduled = match resumed_samples {
         Some(k) => k,
         None => {
             sample(&mut sim, &mut file)?;
             diags.after_step(&sim, comm, file.as_ref())?;
+            imbalance = balance_check(&mut sim, case, file.as_ref())?;
             1
         }
     };
@@ -261,6 +271,9 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         let t0 = Instant::now();
         diags.after_step(&sim, comm, file.as_ref())?;
         sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
+        if sim.step % balance_steps == 0 {
+            imbalance = balance_check(&mut sim, case, file.as_ref())?;
+        }
         if sim.step % STOP_CHECK_EVERY == 0 {
             let health = sim.health(case.run.max_overlap);
             if let Err(e) = &health {
@@ -302,11 +315,12 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             let rate = (sim.step - s_prev) as f64 / t_prev.elapsed().as_secs_f64().max(1e-9);
             let eta = (total - sim.step) as f64 / rate;
             log::info!(
-                "rotation {:.1}/{} ({:.0}%), {:.2} M particle-steps/s, ETA {}",
+                "rotation {:.1}/{} ({:.0}%), {:.2} M particle-steps/s, imbalance {:.3}, ETA {}",
                 sim.rotations(),
                 case.run.rotations,
                 100.0 * sim.step as f64 / total as f64,
                 rate * n_total as f64 / 1e6,
+                imbalance,
                 crate::report::duration(eta)
             );
             last_report = (Instant::now(), sim.step);
@@ -318,6 +332,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
 
     let states = sim.gather_sorted();
     let migrations = comm.sum_u64(sim.migrated);
+    let peak_rss = comm.max_f64(peak_rss_bytes() as f64);
     let histories_migrated = comm.sum_u64(sim.histories_migrated);
     let mut write_err = String::new();
     if let (Some(states), Some(f)) = (states, file) {
@@ -327,6 +342,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             .and_then(|_| f.write_number("rebuilds", sim.rebuilds))
             .and_then(|_| f.write_number("migrations", migrations))
             .and_then(|_| f.write_number("histories_migrated", histories_migrated))
+            .and_then(|_| f.write_number("peak_rss_bytes_per_rank", peak_rss))
             .and_then(|_| match &pour_report {
                 Some(r) => f
                     .write_number("pour_poured", r.poured)
@@ -365,6 +381,11 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             sim.rebuilds,
             migrations
         );
+        log::info!(
+            "peak memory {:.1} MiB on the largest rank ({:.0} B per particle of that rank's share)",
+            peak_rss / (1u64 << 20) as f64,
+            peak_rss * comm.size() as f64 / n_total.max(1) as f64
+        );
         let total_t = sim.timers.total().max(1e-12);
         for ph in PHASES {
             log::info!(
@@ -381,6 +402,49 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         );
     }
     Ok(RunEnd::Finished(summary))
+}
+
+/// Peak resident memory of this process (`VmHWM` of `/proc/self/status`), in bytes; 0 where
+/// it cannot be read.
+pub fn peak_rss_bytes() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map_or(0, |kb| kb * 1024)
+}
+
+/// Check the load balance (all ranks together), move the slab boundaries if it is uneven,
+/// and record the check; returns the imbalance now.
+fn balance_check(sim: &mut Sim, case: &Case, file: Option<&RunFile>) -> Result<f64, String> {
+    let t0 = Instant::now();
+    let (before, after) = sim.rebalance(case.run.balance_tolerance);
+    let mut ok = true;
+    if let Some(f) = file {
+        if let Err(e) =
+            diag_file::append_balance(f.file(), sim.rotations(), before, after, &sim.slabs.bounds)
+        {
+            log::error!("writing a load-balance check: {e}");
+            ok = false;
+        }
+        if after < before {
+            log::info!(
+                "load balance at rotation {:.2}: imbalance {before:.3} -> {after:.3}, slab bounds {:?}",
+                sim.rotations(),
+                sim.slabs.bounds
+            );
+        }
+    }
+    sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
+    if sim.comm().all_ok(ok) {
+        Ok(after)
+    } else {
+        Err("stopped: the load-balance record could not be written".into())
+    }
 }
 
 /// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes).

@@ -1,0 +1,73 @@
+//! Load balance: a capped drum started segregated in halves (eight times more particles per
+//! length in one half) is evened out by moving the slab boundary, and the run stays the
+//! same bits on 1, 2 and 3 ranks while the boundaries move.
+
+mod common;
+
+use common::{case_path, mpirun, tmpdir};
+use std::path::Path;
+
+const HALVES: [&str; 12] = [
+    "--set",
+    "init.arrangement=\"segregated\"",
+    "--set",
+    "init.bands=2",
+    "--set",
+    "species.1.diameter=2.0",
+    "--set",
+    "run.rotations=0.3",
+    "--set",
+    "run.balance_every=0.1",
+    "--set",
+    "drum.length=40.0",
+];
+
+fn run(ranks: usize, out: &Path) {
+    let case = case_path("capped.toml");
+    let mut args = vec!["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    args.extend_from_slice(&HALVES);
+    let o = mpirun(ranks, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+fn read(path: &Path, name: &str) -> Vec<f64> {
+    let f = hdf5::File::open(path).unwrap();
+    f.dataset(name).unwrap().read_raw().unwrap()
+}
+
+#[test]
+fn segregated_halves_are_balanced_and_stay_bit_identical() {
+    let dir = tmpdir();
+    let outs: Vec<_> = (1..=3)
+        .map(|r| dir.path().join(format!("halves{r}.h5")))
+        .collect();
+    for (r, out) in outs.iter().enumerate() {
+        run(r + 1, out);
+    }
+    // two ranks: equal slabs are far out of balance, moved ones are within 10 %
+    let before = read(&outs[1], "balance/imbalance_before");
+    let after = read(&outs[1], "balance/imbalance_after");
+    assert!(before[0] > 1.3, "the halves start balanced? {before:?}");
+    assert!(
+        after.iter().all(|&i| i <= 1.10),
+        "imbalance after balancing {after:?}"
+    );
+    let bounds = read(&outs[1], "balance/bounds");
+    assert!(bounds[1] != 0.0, "the boundary never moved: {bounds:?}");
+    for r in [1, 2] {
+        for ds in [
+            "particles/position",
+            "particles/velocity",
+            "particles/angular_velocity",
+        ] {
+            let (a, b) = (read(&outs[0], ds), read(&outs[r], ds));
+            let differ = a
+                .iter()
+                .zip(&b)
+                .filter(|(x, y)| x.to_bits() != y.to_bits())
+                .count();
+            assert_eq!(differ, 0, "{ds} differs on {} ranks vs 1", r + 1);
+        }
+        common::assert_same_diagnostics(&outs[0], &outs[r], &format!("{} ranks vs 1", r + 1));
+    }
+}
