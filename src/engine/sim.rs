@@ -515,12 +515,17 @@ impl<'c> Sim<'c> {
         for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             self.p.pack(i, &mut buf);
         }
-        let all = self.comm.gather_f64(&buf)?;
+        // free each buffer as soon as it is used: this gather is the run's memory peak
+        let all = self.comm.gather_f64(&buf);
+        drop(buf);
+        let all = all?;
         let mut states: Vec<ParticleState> = all
             .chunks_exact(crate::particles::PACKED_WORDS)
             .map(crate::particles::unpack)
             .collect();
-        states.sort_by_key(|s| s.id);
+        drop(all);
+        // ids are unique: an unstable sort gives the same order, in place
+        states.sort_unstable_by_key(|s| s.id);
         Some(states)
     }
 }

@@ -65,11 +65,13 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
     let g = f.create_group("diagnostics")?;
     for (name, s) in [("slices", &d.slices), ("fields", &d.fields)] {
         let (samples, angle_sum, sums) = (&s.samples, &s.angle_sum, &s.sums);
+        // one half at a time, to keep the checkpoint's memory peak low
         let hi: Vec<i64> = sums.iter().map(|&x| (x >> 64) as i64).collect();
-        let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
         g.new_dataset_builder()
             .with_data(&hi)
             .create(format!("{name}_hi").as_str())?;
+        drop(hi);
+        let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
         g.new_dataset_builder()
             .with_data(&lo)
             .create(format!("{name}_lo").as_str())?;

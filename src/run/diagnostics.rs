@@ -291,20 +291,29 @@ impl RunDiagnostics {
     }
 
     /// The state a checkpoint keeps (all ranks call this; meaningful on rank 0).
+    ///
+    /// The window sums are moved into the state, not copied (they are the largest part of a
+    /// checkpoint of a small run); give them back with [`restore`](Self::restore).
     pub fn state(&mut self, comm: &dyn Comm) -> DiagState {
         self.windows.consolidate(comm);
-        let w = &self.windows;
-        let saved = |b: &crate::diag::grid::BinnedSums| SavedSums {
+        let w = &mut self.windows;
+        let saved = |b: &mut crate::diag::grid::BinnedSums| SavedSums {
             samples: b.samples,
             angle_sum: b.angle_sum,
-            sums: b.sums.clone(),
+            sums: std::mem::take(&mut b.sums),
         };
         DiagState {
-            slices: saved(&w.slices),
-            fields: saved(&w.fields),
+            slices: saved(&mut w.slices),
+            fields: saved(&mut w.fields),
             angles: w.angles.clone(),
             path_ids: self.paths.ids.clone(),
         }
+    }
+
+    /// Take back the window sums lent to a checkpoint by [`state`](Self::state).
+    pub fn restore(&mut self, state: DiagState) {
+        self.windows.slices.sums = state.slices.sums;
+        self.windows.fields.sums = state.fields.sums;
     }
 }
 

@@ -471,6 +471,9 @@ fn save_checkpoint(
         if let Err(e) = checkpoint::write(path, &ck) {
             err = e;
         }
+        diags.restore(ck.diag);
+    } else {
+        diags.restore(diag);
     }
     if sim.comm().all_ok(err.is_empty()) {
         Ok(())
