@@ -1,16 +1,19 @@
 //! Reading a run's HDF5 file back (docs/diagnostics.md, "Commands"): `tumbler info` lists
-//! what a file holds, `tumbler bands` tabulates the band count over time, and
-//! [`RunReader`] is the reading layer the plots (`crate::plot`) share.
+//! what a file holds, `tumbler bands` tabulates the band count over time, `tumbler export`
+//! writes a run's particles as a LAMMPS data file, and [`RunReader`] is the reading layer
+//! the plots (`crate::plot`) share.
 //!
 //! Every refusal is an [`InspectError`] that names the file, the dataset or the argument at
 //! fault; the command line turns each into exit code [`EXIT_BAD_INPUT`].
 
 mod bands;
+mod export;
 mod info;
 mod number;
 mod reader;
 
 pub use bands::{band_table, BandTable, BandsOptions};
+pub use export::{export_lammps, Exported, BOX_PAD};
 pub use info::{info, InfoOptions, CASE_LINES};
 pub use number::{short as short_number, tick as tick_label};
 pub use reader::{attr_display, attr_number, attr_string, format_shape, RunReader, Window};

@@ -8,7 +8,8 @@ use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
 use tumbler::inspect::{
-    band_table, info, BandsOptions, InfoOptions, InspectError, RunReader, EXIT_BAD_INPUT,
+    band_table, export_lammps, info, BandsOptions, InfoOptions, InspectError, RunReader,
+    EXIT_BAD_INPUT,
 };
 use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
@@ -74,6 +75,18 @@ enum Command {
         /// Recompute with this many slices as the narrowest band.
         #[arg(long, value_name = "N")]
         min_slices: Option<usize>,
+    },
+    /// Write a run's particles as a LAMMPS data file (`atom_style sphere`, with velocities).
+    Export {
+        /// The run's HDF5 file.
+        file: PathBuf,
+        /// The LAMMPS data file to write (`id type diameter density x y z`; id = tumbler id
+        /// + 1, type = species + 1; box around the drum).
+        #[arg(long, value_name = "OUT.data")]
+        lammps: PathBuf,
+        /// The group to export: `particles` (the final state) or `snapshots/NNNNNNNNNN`.
+        #[arg(long, value_name = "GROUP", default_value = "particles")]
+        group: String,
     },
     /// Draw a picture of a run's HDF5 file as a PNG.
     Plot {
@@ -216,7 +229,10 @@ fn main() -> ExitCode {
         .init();
     if matches!(
         cli.command,
-        Command::Info { .. } | Command::Bands { .. } | Command::Plot { .. }
+        Command::Info { .. }
+            | Command::Bands { .. }
+            | Command::Plot { .. }
+            | Command::Export { .. }
     ) {
         read_without_locking();
     }
@@ -245,6 +261,15 @@ fn main() -> ExitCode {
             .map(|t| t.to_string())
         })),
         Command::Plot { what } => plot(what),
+        Command::Export {
+            file,
+            lammps,
+            group,
+        } => report(
+            RunReader::open(&file)
+                .and_then(|r| export_lammps(&r, &lammps, Some(&group)))
+                .map(|e| e.to_string()),
+        ),
         Command::Check { case, set, ranks } => match load_case(&case, &set) {
             Ok(lc) => match tumbler::report::check_report(&lc.case, ranks.max(1)) {
                 Ok(text) => {
