@@ -41,6 +41,12 @@ pub struct NeighborList {
     /// Scratch: local indices in order of id, and one particle's partners.
     by_id: Vec<u32>,
     partners: Vec<(u64, u32)>,
+    /// Scratch, in cell order (beside `cell_items`), what the search reads of a candidate:
+    /// binning position and half its contact distance with its own kind, id, and flags
+    /// (1: owned, 2: fixed to the wall).
+    slot_x: Vec<[f64; 4]>,
+    slot_id: Vec<u64>,
+    slot_flags: Vec<u8>,
 }
 
 /// The box of cells covering a slab and its halo.
@@ -141,6 +147,19 @@ impl NeighborList {
             self.cell_items[fill[c as usize] as usize] = i as u32;
             fill[c as usize] += 1;
         }
+        // what the search needs of each candidate, contiguous in cell order
+        let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
+        self.slot_x.clear();
+        self.slot_id.clear();
+        self.slot_flags.clear();
+        for &j in &self.cell_items {
+            let j = j as usize;
+            let x = p.x[j];
+            self.slot_x.push([x[0], x[1], x[2] + p.z_image[j], half(j)]);
+            self.slot_id.push(p.id[j]);
+            self.slot_flags
+                .push((j < p.n_owned) as u8 | (2 * is_fixed(p.species[j]) as u8));
+        }
 
         // Pairs are generated in canonical order: particles (owned and ghosts) in order of id,
         // each with its higher-id partners in order of id. A pair is listed when at least one
@@ -156,6 +175,8 @@ impl NeighborList {
         for &i in &self.by_id {
             let i = i as usize;
             let owned_i = i < p.n_owned;
+            let fixed_i = is_fixed(p.species[i]);
+            let (id_i, half_i) = (id[i], half(i));
             let xi = p.x[i];
             let zi = xi[2] + p.z_image[i];
             let c = [
@@ -165,27 +186,33 @@ impl NeighborList {
             ];
             let range = |k: usize| c[k].saturating_sub(SPAN)..=(c[k] + SPAN).min(grid.n[k] - 1);
             self.partners.clear();
+            // cells along x are adjacent in the cell order: one contiguous run of slots per row
+            let (x_lo, x_hi) = (*range(0).start(), *range(0).end());
             for cz in range(2) {
                 for cy in range(1) {
-                    for cx in range(0) {
-                        let cell = grid.index([cx, cy, cz]);
-                        let (s, e) = (self.cell_start[cell], self.cell_start[cell + 1]);
-                        for &j in &self.cell_items[s as usize..e as usize] {
-                            let j = j as usize;
-                            if id[j] <= id[i] || (!owned_i && j >= p.n_owned) {
-                                continue;
-                            }
+                    {
+                        let s = self.cell_start[grid.index([x_lo, cy, cz])] as usize;
+                        let e = self.cell_start[grid.index([x_hi, cy, cz]) + 1] as usize;
+                        for s in s..e {
+                            let id_j = self.slot_id[s];
+                            let flags = self.slot_flags[s];
+                            // higher ids only; a ghost pairs only with owned particles;
                             // wall particles do not touch each other
-                            if is_fixed(p.species[i]) && is_fixed(p.species[j]) {
+                            if id_j <= id_i
+                                || (!owned_i && flags & 1 == 0)
+                                || (fixed_i && flags & 2 != 0)
+                            {
                                 continue;
                             }
-                            let xj = p.x[j];
+                            let xj = self.slot_x[s];
                             let dx = xi[0] - xj[0];
                             let dy = xi[1] - xj[1];
-                            let dz = zi - (xj[2] + p.z_image[j]);
-                            let reach = law.cutoff(p.diameter[i], p.diameter[j]) + skin;
+                            let dz = zi - xj[2];
+                            // the list's range needs no last-bit care: a pair near it is a
+                            // skin away from touching
+                            let reach = half_i + xj[3] + skin;
                             if dx * dx + dy * dy + dz * dz < reach * reach {
-                                self.partners.push((id[j], j as u32));
+                                self.partners.push((id_j, self.cell_items[s]));
                             }
                         }
                     }

@@ -60,9 +60,10 @@ pub struct SpringDashpot {
 }
 
 impl SpringDashpot {
-    /// Normal force magnitude along `n`, normal stiffness (for `k_s`) and dashpot coefficient.
+    /// Normal force magnitude along `n`, normal stiffness (for `k_s`) and dashpot coefficient;
+    /// `r_eff` is asked for only by the Hertz law.
     #[inline]
-    fn normal(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64) -> (f64, f64, f64) {
+    fn normal(&self, a: f64, vn: f64, m_eff: f64, r_eff: impl Fn() -> f64) -> (f64, f64, f64) {
         match self.normal {
             NormalLaw::Linear { k0, two_gamma } => {
                 let dash = two_gamma * m_eff;
@@ -70,7 +71,7 @@ impl SpringDashpot {
             }
             NormalLaw::Hertz { kh, gamma_h } => {
                 let sa = a.sqrt();
-                let k = kh * r_eff.sqrt() * sa;
+                let k = kh * r_eff().sqrt() * sa;
                 let dash = gamma_h * sa;
                 (k * a - dash * vn, 1.5 * k, dash)
             }
@@ -141,15 +142,15 @@ impl SpringDashpot {
             return None;
         }
         let rr = r2.sqrt();
-        let n = r / rr;
+        let n = r * (1.0 / rr);
         let overlap = d_ab - rr;
         let m_eff = 1.0 / (a.inv_mass + b.inv_mass);
-        let r_eff = 0.5 * a.d * b.d / (a.d + b.d);
+        let inv_d = 1.0 / (a.d + b.d);
         let v = a.v - b.v;
         let vn = n.dot(&v);
-        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, r_eff);
+        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || 0.5 * a.d * b.d * inv_d);
         // eq. 2.16: sliding velocity with both spins
-        let w_eff = (a.w * a.d + b.w * b.d) / (a.d + b.d);
+        let w_eff = (a.w * a.d + b.w * b.d) * inv_d;
         let v_s = v - n * vn - w_eff.cross(&r);
         let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, hist);
         Some(Contact {
@@ -176,12 +177,12 @@ impl SpringDashpot {
             return None;
         }
         let rr = r2.sqrt();
-        let n = r / rr;
+        let n = r * (1.0 / rr);
         let overlap = half - rr;
         let m_eff = 1.0 / p.inv_mass;
         let v = p.v - v_wall;
         let vn = n.dot(&v);
-        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, half);
+        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || half);
         // the particle's surface point at the contact moves with v - (d/2) w x n
         let v_s = v - n * vn - p.w.cross(&n) * half;
         let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, hist);
