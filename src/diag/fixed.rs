@@ -7,6 +7,9 @@
 
 use crate::comm::Comm;
 
+/// Values reduced per message in [`sum_to_root`].
+const CHUNK: usize = 1 << 16;
+
 /// One unit of the reference scale.
 const ONE: f64 = (1u64 << 40) as f64;
 
@@ -30,17 +33,22 @@ pub fn sum_to_root(v: &mut [i128], comm: &dyn Comm) {
     if comm.size() == 1 {
         return;
     }
-    let mut limbs = Vec::with_capacity(3 * v.len());
-    for &x in v.iter() {
-        let low = x as u64;
-        limbs.push((x >> 64) as i64);
-        limbs.push((low >> 32) as i64);
-        limbs.push((low & 0xffff_ffff) as i64);
-    }
-    comm.sum_i64_to_root(&mut limbs);
-    if comm.rank() == 0 {
-        for (x, l) in v.iter_mut().zip(limbs.chunks_exact(3)) {
-            *x = ((l[0] as i128) << 64) + ((l[1] as i128) << 32) + l[2] as i128;
+    // in chunks, so that the limbs and rank 0's receive buffer stay small (a window's
+    // sums are megabytes)
+    let mut limbs = Vec::with_capacity(3 * CHUNK.min(v.len()));
+    for part in v.chunks_mut(CHUNK) {
+        limbs.clear();
+        for &x in part.iter() {
+            let low = x as u64;
+            limbs.push((x >> 64) as i64);
+            limbs.push((low >> 32) as i64);
+            limbs.push((low & 0xffff_ffff) as i64);
+        }
+        comm.sum_i64_to_root(&mut limbs);
+        if comm.rank() == 0 {
+            for (x, l) in part.iter_mut().zip(limbs.chunks_exact(3)) {
+                *x = ((l[0] as i128) << 64) + ((l[1] as i128) << 32) + l[2] as i128;
+            }
         }
     }
 }

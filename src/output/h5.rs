@@ -14,7 +14,7 @@
 //! with the final name is always whole.
 
 use super::diag_file::DiagLayout;
-use super::series::describe;
+use super::series::{self, describe};
 use crate::diag::AxialSample;
 use crate::particles::ParticleState;
 use hdf5::types::VarLenUnicode;
@@ -41,9 +41,6 @@ pub struct RunFile {
     rotations: hdf5::Dataset,
     volume_fraction: hdf5::Dataset,
     count: hdf5::Dataset,
-    samples: usize,
-    ns: usize,
-    nz: usize,
 }
 
 /// The name a file is written under until it is complete.
@@ -117,9 +114,6 @@ impl RunFile {
             rotations,
             volume_fraction,
             count,
-            samples: 0,
-            ns,
-            nz,
         })
     }
 
@@ -187,9 +181,6 @@ impl RunFile {
                 rotations,
                 volume_fraction,
                 count,
-                samples,
-                ns,
-                nz,
             },
             columns,
         ))
@@ -197,20 +188,10 @@ impl RunFile {
 
     /// Append one axial sample taken at `rotations`, with its band count.
     pub fn append(&mut self, rotations: f64, s: &AxialSample, bands: u64) -> hdf5::Result<()> {
-        let t = self.samples;
-        self.rotations.resize(t + 1)?;
-        self.rotations
-            .write_slice(&Array1::from(vec![rotations]), t..t + 1)?;
-        self.volume_fraction.resize((t + 1, self.ns, self.nz))?;
-        let vf = Array2::from_shape_vec((self.ns, self.nz), s.volume_fraction.clone())
-            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
-        self.volume_fraction.write_slice(&vf, (t, .., ..))?;
-        self.count.resize((t + 1, self.ns, self.nz))?;
-        let c = Array2::from_shape_vec((self.ns, self.nz), s.count.clone())
-            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
-        self.count.write_slice(&c, (t, .., ..))?;
+        series::append(&self.rotations, &[rotations])?;
+        series::append(&self.volume_fraction, &s.volume_fraction)?;
+        series::append(&self.count, &s.count)?;
         super::diag_file::append_axial(&self.file, &s.mean_axial_velocity, bands)?;
-        self.samples += 1;
         // on disk after every sample, so that a job killed later leaves a readable file
         self.file.flush()
     }
