@@ -12,7 +12,7 @@ mod info;
 mod number;
 mod reader;
 
-pub use bands::{band_table, BandTable, BandsOptions};
+pub use bands::{band_table, effective_rule, BandTable, BandsOptions};
 pub use export::{export_lammps, Exported, BOX_PAD};
 pub use info::{info, InfoOptions, CASE_LINES};
 pub use number::{short as short_number, tick as tick_label};

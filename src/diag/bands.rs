@@ -18,13 +18,23 @@ pub struct BandRule {
     pub periodic: bool,
 }
 
-/// Number of bands in `profile` (volume fraction of one species per slice; NaN for empty
-/// slices, which are ignored). A profile that nowhere departs from its mean by more than the
-/// threshold has no bands (0).
-pub fn count_bands(profile: &[f64], rule: &BandRule) -> usize {
+/// One band of an axial profile: rich or poor in the species, and its width.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Band {
+    /// Whether the species is enriched (`true`) or depleted in the band.
+    pub rich: bool,
+    /// Slices beyond the threshold in the band (slices in between are not counted).
+    pub slices: usize,
+}
+
+/// The bands of `profile` (volume fraction of one species per slice; NaN for empty slices,
+/// which are ignored), in order along the axis. At periodic ends a first and last band of the
+/// same state are one band: it is reported first, its width the sum of both. A profile that
+/// nowhere departs from its mean by more than the threshold has no bands.
+pub fn find_bands(profile: &[f64], rule: &BandRule) -> Vec<Band> {
     let finite: Vec<f64> = profile.iter().copied().filter(|c| c.is_finite()).collect();
     if finite.is_empty() {
-        return 0;
+        return Vec::new();
     }
     let mean = finite.iter().sum::<f64>() / finite.len() as f64;
     // runs of (state, slices beyond the threshold)
@@ -56,11 +66,21 @@ pub fn count_bands(profile: &[f64], rule: &BandRule) -> usize {
             _ => kept.push((s, n)),
         }
     }
-    let mut bands = kept.len();
-    if rule.periodic && bands > 1 && kept[0].0 == kept[bands - 1].0 {
-        bands -= 1;
+    if rule.periodic && kept.len() > 1 && kept[0].0 == kept[kept.len() - 1].0 {
+        let (_, n) = kept.pop().expect("more than one band");
+        kept[0].1 += n;
     }
-    bands
+    kept.into_iter()
+        .map(|(s, slices)| Band {
+            rich: s > 0,
+            slices,
+        })
+        .collect()
+}
+
+/// Number of bands in `profile` ([`find_bands`]).
+pub fn count_bands(profile: &[f64], rule: &BandRule) -> usize {
+    find_bands(profile, rule).len()
 }
 
 #[cfg(test)]
@@ -87,6 +107,18 @@ mod tests {
         assert_eq!(count_bands(&square(8, 5), &rule(false)), 8);
         assert_eq!(count_bands(&square(8, 5), &rule(true)), 8);
         assert_eq!(count_bands(&square(5, 4), &rule(false)), 5);
+    }
+
+    #[test]
+    fn bands_say_which_state_they_are() {
+        let b = find_bands(&square(5, 4), &rule(false));
+        let rich: Vec<bool> = b.iter().map(|b| b.rich).collect();
+        assert_eq!(rich, [true, false, true, false, true]);
+        assert!(b.iter().all(|b| b.slices == 4));
+        // wrapped: the last rich band joins the first
+        let b = find_bands(&square(5, 4), &rule(true));
+        assert_eq!(b.len(), 4);
+        assert_eq!((b[0].rich, b[0].slices), (true, 8));
     }
 
     #[test]

@@ -23,6 +23,6 @@ pub mod surface;
 pub mod windows;
 
 pub use axial::{AxialBins, AxialSample};
-pub use bands::{count_bands, BandRule};
+pub use bands::{count_bands, find_bands, Band, BandRule};
 pub use paths::PathTracker;
 pub use windows::{SliceRecord, Windows};

@@ -102,7 +102,7 @@ pub fn band_table(reader: &RunReader, opts: &BandsOptions) -> Result<BandTable, 
 
 /// The rule: each option from the command line, else the `/axial/bands` attributes, else
 /// the defaults (and the ends from the case).
-fn effective_rule(reader: &RunReader, opts: &BandsOptions) -> Result<BandRule, InspectError> {
+pub fn effective_rule(reader: &RunReader, opts: &BandsOptions) -> Result<BandRule, InspectError> {
     if let Some(c) = opts.threshold {
         if !(c.is_finite() && c >= 0.0) {
             return Err(InspectError::Invalid(format!(
