@@ -88,11 +88,40 @@ enum Command {
         #[arg(long, value_name = "GROUP", default_value = "particles")]
         group: String,
     },
+    /// Run reduced versions of the seed studies and check their results (under
+    /// `mpirun -np N`; docs/validation.md). Exit code 4 if a check fails.
+    Validate {
+        /// `ci`: the few-minute subset CI runs; `full`: every check (about an hour on two
+        /// cores).
+        #[arg(long, value_enum, default_value_t = TierArg::Full)]
+        tier: TierArg,
+        /// Only these checks (comma-separated names; see `--list`).
+        #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+        only: Vec<String>,
+        /// The folder for the runs, the figures and `report.md`.
+        #[arg(short, long, default_value = "validation")]
+        out: PathBuf,
+        /// Judge a finished run again instead of rerunning it, when its case is unchanged.
+        #[arg(long)]
+        reuse: bool,
+        /// List the checks and stop.
+        #[arg(long)]
+        list: bool,
+    },
     /// Draw a picture of a run's HDF5 file as a PNG.
     Plot {
         #[command(subcommand)]
         what: PlotCommand,
     },
+}
+
+/// The tiers of `tumbler validate`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum TierArg {
+    /// The subset CI runs.
+    Ci,
+    /// Every check.
+    Full,
 }
 
 /// The pictures `tumbler plot` draws (default output `STEM_<what>.png` beside the file).
@@ -222,6 +251,45 @@ fn plot(what: PlotCommand) -> ExitCode {
     report(written.map(|path| format!("wrote {}\n", path.display())))
 }
 
+/// `tumbler validate`: every rank runs; rank 0 judges, prints and sets the exit code.
+fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: bool) -> ExitCode {
+    use tumbler::validate::{select, validate, Tier, ValidateOptions, EXIT_CHECK_FAILED};
+    if list {
+        print!("{}", tumbler::validate::list());
+        return ExitCode::SUCCESS;
+    }
+    let opts = ValidateOptions {
+        tier: match tier {
+            TierArg::Ci => Tier::Ci,
+            TierArg::Full => Tier::Full,
+        },
+        only,
+        out,
+        reuse,
+    };
+    if let Err(e) = select(&opts) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    let Some(universe) = mpi::initialize() else {
+        eprintln!("error: MPI could not be initialised");
+        return ExitCode::from(1);
+    };
+    let comm = MpiComm::new(&universe);
+    let root = comm.rank() == 0;
+    match validate(&comm, &opts) {
+        Ok((_, true)) => ExitCode::SUCCESS,
+        Ok((_, false)) if root => ExitCode::from(EXIT_CHECK_FAILED),
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            if root {
+                eprintln!("error: {e}");
+            }
+            ExitCode::from(1)
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
@@ -270,6 +338,13 @@ fn main() -> ExitCode {
                 .and_then(|r| export_lammps(&r, &lammps, Some(&group)))
                 .map(|e| e.to_string()),
         ),
+        Command::Validate {
+            tier,
+            only,
+            out,
+            reuse,
+            list,
+        } => validate(tier, only, out, reuse, list),
         Command::Check { case, set, ranks } => match load_case(&case, &set) {
             Ok(lc) => match tumbler::report::check_report(&lc.case, ranks.max(1)) {
                 Ok(text) => {

@@ -8,6 +8,7 @@ use common::case_with;
 use tumbler::comm::SerialComm;
 use tumbler::engine::Sim;
 use tumbler::particles::ParticleState;
+use tumbler::validate::analytic::{self, collide};
 
 fn ball(id: u64, d: f64, x: [f64; 3], v: [f64; 3]) -> ParticleState {
     ParticleState::new(id, 0, d, x, v, [0.0; 3])
@@ -25,50 +26,18 @@ fn sd_case(e: f64, tangential: &str, extra: &[&str]) -> tumbler::case::Case {
     case_with("sd_capped.toml", &ov)
 }
 
-/// Follow a collision: `gap(sim)` is the surface separation (negative in contact) and
-/// `vn(sim)` the approach velocity. Returns (restitution, contact duration), the duration
-/// from the linearly interpolated instants where the gap crosses zero.
-fn collide(sim: &mut Sim, gap: impl Fn(&Sim) -> f64, vn: impl Fn(&Sim) -> f64) -> (f64, f64) {
-    let dt = sim.dt;
-    let v_in = vn(sim);
-    let (mut start, mut prev) = (None, gap(sim));
-    for k in 0..100_000 {
-        sim.step();
-        let g = gap(sim);
-        let t = (k + 1) as f64 * dt;
-        if start.is_none() && g < 0.0 {
-            start = Some(t - dt * g / (g - prev));
-        }
-        if let Some(t0) = start {
-            if g >= 0.0 {
-                let t1 = t - dt * g / (g - prev);
-                return (-vn(sim) / v_in, t1 - t0);
-            }
-        }
-        prev = g;
-    }
-    panic!("the contact never ended");
-}
-
 /// The measured restitution over a range of `e_n` (printed; `--ignored --nocapture`), for
 /// docs/verification.md.
 #[test]
 #[ignore]
 fn restitution_error_table() {
     for e in [0.3, 0.5, 0.7, 0.8, 0.89, 0.97] {
-        let case = sd_case(e, "viscous", &[]);
-        let (d1, d2) = (0.002, 0.002);
-        let a = ball(0, d1, [0.0, 0.0, -0.0011], [0.0, 0.0, 0.3]);
-        let b = ball(1, d2, [0.0, 0.0, 0.0011], [0.0, 0.0, -0.3]);
-        let comm = SerialComm;
-        let mut sim = Sim::new(&case, &comm, &[a, b]).unwrap();
-        let gap = |s: &Sim| (s.p.x[1][2] - s.p.x[0][2]) - 0.002;
-        let vn = |s: &Sim| s.p.v[0][2] - s.p.v[1][2];
-        let (e_got, t_got) = collide(&mut sim, gap, vn);
+        let c = analytic::pair_collision(e, 0.002, 0.002).unwrap();
         println!(
-            "e {e}: measured {e_got:.5} ({:+.2} %), duration/t_c {:.4}",
-            100.0 * (e_got / e - 1.0),
-            t_got / 1e-3
+            "e {e}: measured {:.5} ({:+.2} %), duration/t_c {:.4}",
+            c.restitution,
+            100.0 * (c.restitution / e - 1.0),
+            c.duration / c.collision_time
         );
     }
 }
@@ -80,37 +49,21 @@ fn particle_collisions_give_the_restitution_and_collision_time() {
     // about -ln(e_n)/40 of the velocity at dt = t_c/40: 0.3 % at 0.89, but 0.9 % at 0.7
     // (see docs/verification.md for the measured table).
     for e in [0.89, 0.93, 0.97] {
+        let case = analytic::stage(&[format!("model.restitution={e}")]).unwrap();
+        let tc = case.model.collision_time.unwrap();
+        assert_eq!(case.dt(), tc / 40.0);
         for ratio in [1.0, 1.5, 2.0] {
-            let case = sd_case(e, "viscous", &[]);
-            let tc = case.model.collision_time.unwrap();
-            assert_eq!(case.dt(), tc / 40.0);
-            let (d1, d2) = (0.002, 0.002 * ratio);
-            let gap0 = 0.0002;
-            let a = ball(
-                0,
-                d1,
-                [0.0, 0.0, -0.5 * (0.5 * (d1 + d2) + gap0)],
-                [0.0, 0.0, 0.3],
-            );
-            let b = ball(
-                1,
-                d2,
-                [0.0, 0.0, 0.5 * (0.5 * (d1 + d2) + gap0)],
-                [0.0, 0.0, -0.2],
-            );
-            let comm = SerialComm;
-            let mut sim = Sim::new(&case, &comm, &[a, b]).unwrap();
-            let k = |s: &Sim, id: u64| s.p.id.iter().position(|&x| x == id).unwrap();
-            let gap = |s: &Sim| (s.p.x[k(s, 1)][2] - s.p.x[k(s, 0)][2]) - 0.5 * (d1 + d2);
-            let vn = |s: &Sim| s.p.v[k(s, 0)][2] - s.p.v[k(s, 1)][2];
-            let (e_got, t_got) = collide(&mut sim, gap, vn);
+            let c = analytic::pair_collision(e, 0.002, 0.002 * ratio).unwrap();
+            assert_eq!(c.collision_time, tc);
             assert!(
-                (e_got - e).abs() < 0.01 * e,
-                "e = {e}, size ratio {ratio}: restitution {e_got}"
+                (c.restitution - e).abs() < 0.01 * e,
+                "e = {e}, size ratio {ratio}: restitution {}",
+                c.restitution
             );
             assert!(
-                (t_got - tc).abs() < 0.03 * tc,
-                "e = {e}, size ratio {ratio}: contact lasted {t_got}, t_c = {tc}"
+                (c.duration - tc).abs() < 0.03 * tc,
+                "e = {e}, size ratio {ratio}: contact lasted {}, t_c = {tc}",
+                c.duration
             );
         }
     }
@@ -120,79 +73,36 @@ fn particle_collisions_give_the_restitution_and_collision_time() {
 fn wall_collisions_give_the_restitution_and_collision_time() {
     for e in [0.89, 0.93, 0.97] {
         for d in [0.002, 0.004] {
-            let case = sd_case(e, "history", &[]);
-            let tc = case.model.collision_time.unwrap();
-            let half = 0.5 * case.drum.axial_length();
-            // on the axis, where the cap is still, towards the cap at -L/2
-            let a = ball(
-                0,
-                d,
-                [0.0, 0.0, -half + 0.5 * d + 0.0002],
-                [0.0, 0.0, -0.25],
-            );
-            let comm = SerialComm;
-            let mut sim = Sim::new(&case, &comm, &[a]).unwrap();
-            let gap = |s: &Sim| s.p.x[0][2] + half - 0.5 * d;
-            let vn = |s: &Sim| -s.p.v[0][2];
-            let (e_got, t_got) = collide(&mut sim, gap, vn);
+            let c = analytic::wall_collision(e, d).unwrap();
+            let tc = c.collision_time;
             assert!(
-                (e_got - e).abs() < 0.01 * e,
-                "e = {e}, d = {d}: restitution {e_got}"
+                (c.restitution - e).abs() < 0.01 * e,
+                "e = {e}, d = {d}: restitution {}",
+                c.restitution
             );
             assert!(
-                (t_got - tc).abs() < 0.03 * tc,
-                "e = {e}, d = {d}: contact lasted {t_got}, t_c = {tc}"
+                (c.duration - tc).abs() < 0.03 * tc,
+                "e = {e}, d = {d}: contact lasted {}, t_c = {tc}",
+                c.duration
             );
         }
     }
-}
-
-/// Launch a sphere sliding along the axis on the bottom of a wide drum (a flat floor along
-/// `z`) and return its axial speed once it rolls, over the launch speed.
-fn roll(tangential: &str) -> f64 {
-    let case = sd_case(
-        0.9,
-        tangential,
-        &[
-            "model.gravity=9.8",
-            "drum.diameter=2.0",
-            "drum.length=4.0",
-            "species.0.mu=0.3",
-        ],
-    );
-    let d = 0.004;
-    let radius = 0.5 * case.drum.diameter;
-    let v0 = 0.5;
-    let a = ball(0, d, [0.0, -(radius - 0.5 * d), -1.5], [0.0, 0.0, v0]);
-    let comm = SerialComm;
-    let mut sim = Sim::new(&case, &comm, &[a]).unwrap();
-    // sliding time: v0 / (7/2 mu g) = 0.05 s; run 0.4 s
-    let steps = (0.4 / sim.dt) as usize;
-    let mut tail = Vec::new();
-    for k in 0..steps {
-        sim.step();
-        if k > steps - 2000 {
-            tail.push(sim.p.v[0][2]);
-        }
-    }
-    // the spin matches the rolling: v = (d/2) w_x
-    let w = sim.p.w[0][0];
-    let v = tail.iter().sum::<f64>() / tail.len() as f64;
-    assert!(
-        (v - 0.5 * d * w).abs() < 0.01 * v,
-        "{tangential}: v = {v}, (d/2) w = {}",
-        0.5 * d * w
-    );
-    v / v0
 }
 
 #[test]
 fn sliding_sphere_ends_up_rolling_at_five_sevenths() {
     for tangential in ["viscous", "history"] {
-        let f = roll(tangential);
+        let r = analytic::rolling(tangential).unwrap();
+        // the spin matches the rolling: v = (d/2) w
         assert!(
-            (f - 5.0 / 7.0).abs() < 0.01 * 5.0 / 7.0,
-            "{tangential}: rolling at {f} of the launch speed"
+            (r.spin_ratio - 1.0).abs() < 0.01,
+            "{tangential}: (d/2) w / v = {}",
+            r.spin_ratio
+        );
+        assert!(
+            (r.speed_ratio - 5.0 / 7.0).abs() < 0.01 * 5.0 / 7.0,
+            "{tangential}: rolling at {} of the launch speed",
+            r.speed_ratio
         );
     }
 }
@@ -270,7 +180,7 @@ fn hertz_collision_lasts_as_hertz_theory_says() {
         let k = |s: &Sim, id: u64| s.p.id.iter().position(|&x| x == id).unwrap();
         let gap = |s: &Sim| (s.p.x[k(s, 1)][2] - s.p.x[k(s, 0)][2]) - 0.5 * (d1 + d2);
         let vn = |s: &Sim| s.p.v[k(s, 0)][2] - s.p.v[k(s, 1)][2];
-        let (e_got, t_got) = collide(&mut sim, gap, vn);
+        let (e_got, t_got) = collide(&mut sim, gap, vn).expect("the contact ends");
         assert!(
             (e_got - 1.0).abs() < 0.005,
             "undamped Hertz restitution {e_got}"

@@ -1,0 +1,276 @@
+//! The figures the validation checks read from a run's file: the big species' axial
+//! profile late in the run, its band structure and a segregation index, the share of the
+//! big species near the ends and at the equator, and the axial flow in the free-surface
+//! layer next to each end wall.
+
+use crate::diag::bands::{find_bands, Band, BandRule};
+use crate::inspect::{effective_rule, BandsOptions, InspectError, RunReader};
+
+/// The big species' volume fraction along the axis at every axial sample.
+pub struct AxialSeries {
+    /// Sample times, in rotations.
+    pub rotations: Vec<f64>,
+    /// Slice centres.
+    pub z: Vec<f64>,
+    /// `big[t][k]`: the big species' volume fraction in slice `k` at sample `t` (NaN if empty).
+    pub big: Vec<Vec<f64>>,
+    /// The band rule the run used (`/axial/bands` attributes), or the defaults.
+    pub rule: BandRule,
+}
+
+impl AxialSeries {
+    /// Read `/axial` of the file open in `reader`.
+    pub fn read(reader: &RunReader) -> Result<Self, InspectError> {
+        let rotations = reader.vector("axial/rotations")?;
+        let z = reader.centres("axial/z")?;
+        let vf = reader.array("axial/volume_fraction", &["T", "S", "Z"])?;
+        let species = reader.big_species()?;
+        let s = vf.shape().to_vec();
+        reader.check_len("axial/volume_fraction", s[0], rotations.len(), "samples")?;
+        reader.check_len("axial/volume_fraction", s[2], z.len(), "slices")?;
+        if species >= s[1] {
+            return Err(reader.layout("axial/volume_fraction", "lacks the big species"));
+        }
+        let big = (0..s[0])
+            .map(|t| (0..s[2]).map(|k| vf[[t, species, k]]).collect())
+            .collect();
+        let rule = effective_rule(reader, &BandsOptions::default())?;
+        Ok(AxialSeries {
+            rotations,
+            z,
+            big,
+            rule,
+        })
+    }
+
+    /// The run's length in rotations (the last sample).
+    pub fn end(&self) -> f64 {
+        self.rotations.last().copied().unwrap_or(0.0)
+    }
+
+    /// The profile averaged over the samples in the last `rotations` of the run (at least
+    /// the last sample); a slice empty in every one of them is NaN.
+    pub fn late_profile(&self, rotations: f64) -> Vec<f64> {
+        let from = self.end() - rotations;
+        let mut picked: Vec<&Vec<f64>> = self
+            .rotations
+            .iter()
+            .zip(&self.big)
+            .filter(|(r, _)| **r > from + 1e-9)
+            .map(|(_, p)| p)
+            .collect();
+        if picked.is_empty() {
+            picked.extend(self.big.last());
+        }
+        mean_profile(&picked)
+    }
+
+    /// The profile at the first sample.
+    pub fn initial_profile(&self) -> Vec<f64> {
+        self.big.first().cloned().unwrap_or_default()
+    }
+
+    /// The segregation index ([`segregation_index`]) of every sample.
+    pub fn segregation(&self) -> Vec<f64> {
+        self.big.iter().map(|p| segregation_index(p)).collect()
+    }
+
+    /// The bands of `profile` by the run's rule.
+    pub fn bands(&self, profile: &[f64]) -> Vec<Band> {
+        find_bands(profile, &self.rule)
+    }
+
+    /// The first sample time with at least `n` bands (each sample's own profile).
+    pub fn first_with_bands(&self, n: usize) -> Option<f64> {
+        self.rotations
+            .iter()
+            .zip(&self.big)
+            .find(|(_, p)| find_bands(p, &self.rule).len() >= n)
+            .map(|(r, _)| *r)
+    }
+}
+
+/// Slice-wise mean of `profiles`, skipping NaN; NaN where every profile is NaN.
+pub fn mean_profile(profiles: &[&Vec<f64>]) -> Vec<f64> {
+    let n = profiles.first().map_or(0, |p| p.len());
+    (0..n)
+        .map(|k| {
+            let vals: Vec<f64> = profiles
+                .iter()
+                .map(|p| p[k])
+                .filter(|c| c.is_finite())
+                .collect();
+            if vals.is_empty() {
+                f64::NAN
+            } else {
+                vals.iter().sum::<f64>() / vals.len() as f64
+            }
+        })
+        .collect()
+}
+
+/// How far a profile is from mixed: the standard deviation of the volume fraction over the
+/// occupied slices divided by `sqrt(m (1 - m))`, `m` its mean. 0 for a uniform profile, 1
+/// when every slice holds one species only.
+pub fn segregation_index(profile: &[f64]) -> f64 {
+    let c: Vec<f64> = profile.iter().copied().filter(|c| c.is_finite()).collect();
+    if c.is_empty() {
+        return 0.0;
+    }
+    let m = c.iter().sum::<f64>() / c.len() as f64;
+    let var = c.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / c.len() as f64;
+    let scale = (m * (1.0 - m)).sqrt();
+    if scale > 0.0 {
+        var.sqrt() / scale
+    } else {
+        0.0
+    }
+}
+
+/// Mean of the finite entries of `values` (NaN if none).
+pub fn finite_mean(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (sum, n) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 {
+        f64::NAN
+    } else {
+        sum / n as f64
+    }
+}
+
+/// The occupied slices of `profile` (finite entries) split into thirds along the axis:
+/// the mean volume fraction of the low third, the middle third and the high third.
+pub fn thirds(profile: &[f64]) -> [f64; 3] {
+    let occupied: Vec<f64> = profile.iter().copied().filter(|c| c.is_finite()).collect();
+    let n = occupied.len();
+    let cut = |k: usize| (k * n + 1) / 3;
+    let part = |a: usize, b: usize| finite_mean(occupied[a..b].iter().copied());
+    [part(0, cut(1)), part(cut(1), cut(2)), part(cut(2), n)]
+}
+
+/// Mean of the first `n` and of the last `n` occupied slices of `profile`, and of the middle
+/// half of the occupied slices.
+pub fn ends_and_centre(profile: &[f64], n: usize) -> (f64, f64, f64) {
+    let occupied: Vec<f64> = profile.iter().copied().filter(|c| c.is_finite()).collect();
+    let m = occupied.len();
+    let n = n.min(m / 2);
+    (
+        finite_mean(occupied[..n].iter().copied()),
+        finite_mean(occupied[m - n..].iter().copied()),
+        finite_mean(occupied[m / 4..m - m / 4].iter().copied()),
+    )
+}
+
+/// Axial velocity in the free-surface layer of one field window, next to the two ends.
+#[derive(Debug, Clone, Copy)]
+pub struct EndFlow {
+    /// Mean `w` at the low end (`z = -L/2`): upstream (`x < 0`) and downstream (`x > 0`).
+    pub low: [f64; 2],
+    /// The same at the high end (`z = +L/2`).
+    pub high: [f64; 2],
+    /// The same over the middle of the drum.
+    pub centre: [f64; 2],
+    /// The streamwise surface velocity at the centre, `u0`.
+    pub u0: f64,
+}
+
+/// [`EndFlow`] of field window `window`: the mean axial velocity `w` of the surface bin (the
+/// top bin, whose upper edge is `/fields/surface`) of every flowing column (finite
+/// `/fields/boundary`), over the `slices` field slices nearest each end and the `slices`
+/// nearest the middle, upstream and downstream separately.
+pub fn end_flow(reader: &RunReader, window: usize, slices: usize) -> Result<EndFlow, InspectError> {
+    let x = reader.centres("fields/x")?;
+    let y = reader.centres("fields/y")?;
+    let z = reader.centres("fields/z")?;
+    let vel = reader.array("fields/velocity", &["F", "3", "X", "Y", "ZF"])?;
+    let surface = reader.array("fields/surface", &["F", "X", "ZF"])?;
+    let boundary = reader.array("fields/boundary", &["F", "X", "ZF"])?;
+    let u0 = reader.vector("fields/u0")?;
+    if window >= u0.len() {
+        return Err(reader.layout("fields/u0", format!("has no window {window}")));
+    }
+    let dy = if y.len() > 1 { y[1] - y[0] } else { 1.0 };
+    let nz = z.len();
+    let slices = slices.min(nz / 2).max(1);
+    let mean_w = |ks: &[usize], upstream: bool| {
+        let mut vals = Vec::new();
+        for &k in ks {
+            for (i, &xi) in x.iter().enumerate() {
+                if (xi < 0.0) != upstream || !boundary[[window, i, k]].is_finite() {
+                    continue;
+                }
+                let top = surface[[window, i, k]];
+                if let Some(j) = y
+                    .iter()
+                    .position(|&yj| (yj + 0.5 * dy - top).abs() < 0.25 * dy)
+                {
+                    vals.push(vel[[window, 2, i, j, k]]);
+                }
+            }
+        }
+        finite_mean(vals)
+    };
+    let both = |ks: &[usize]| [mean_w(ks, true), mean_w(ks, false)];
+    let low: Vec<usize> = (0..slices).collect();
+    let high: Vec<usize> = (nz - slices..nz).collect();
+    let mid0 = (nz - slices) / 2;
+    let centre: Vec<usize> = (mid0..mid0 + slices).collect();
+    Ok(EndFlow {
+        low: both(&low),
+        high: both(&high),
+        centre: both(&centre),
+        u0: u0[window],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segregation_index_is_zero_when_mixed_and_one_when_pure() {
+        assert_eq!(segregation_index(&[0.5; 8]), 0.0);
+        let pure = [1.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0];
+        assert!((segregation_index(&pure) - 1.0).abs() < 1e-12);
+        // empty slices are ignored
+        let gaps = [1.0, f64::NAN, 0.0, 1.0, 0.0, f64::NAN];
+        assert!((segregation_index(&gaps) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn thirds_and_ends_skip_empty_slices() {
+        let p = [f64::NAN, 0.9, 0.9, 0.1, 0.1, 0.1, 0.9, 0.9, 0.1, f64::NAN];
+        // occupied: 0.9 0.9 0.1 | 0.1 0.1 0.9 | 0.9 0.1 -> n = 8, cuts at 3 and 5
+        let t = thirds(&p);
+        assert!((t[0] - (1.9 / 3.0)).abs() < 1e-12);
+        assert!((t[1] - 0.1).abs() < 1e-12);
+        assert!((t[2] - (1.9 / 3.0)).abs() < 1e-12, "{t:?}");
+        let (lo, hi, mid) = ends_and_centre(&p, 2);
+        assert!((lo - 0.9).abs() < 1e-12 && (hi - 0.5).abs() < 1e-12);
+        assert!((mid - 0.3).abs() < 1e-12, "{mid}");
+    }
+
+    #[test]
+    fn late_profile_averages_the_last_samples() {
+        let s = AxialSeries {
+            rotations: vec![0.0, 1.0, 2.0, 3.0],
+            z: vec![0.0, 1.0],
+            big: vec![
+                vec![0.0, 0.0],
+                vec![0.2, f64::NAN],
+                vec![0.4, f64::NAN],
+                vec![0.6, 1.0],
+            ],
+            rule: BandRule {
+                threshold: 0.2,
+                min_slices: 1,
+                periodic: false,
+            },
+        };
+        let p = s.late_profile(2.0);
+        assert!((p[0] - 0.5).abs() < 1e-12 && p[1] == 1.0);
+        assert_eq!(s.late_profile(0.0), vec![0.6, 1.0]);
+    }
+}
