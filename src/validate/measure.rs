@@ -163,6 +163,14 @@ pub fn ends_and_centre(profile: &[f64], n: usize) -> (f64, f64, f64) {
     )
 }
 
+/// The bin of centres `y` whose upper edge is the surface height `top` (`/fields/surface`,
+/// NaN where a column has no surface).
+fn top_bin(y: &[f64], top: f64) -> Option<usize> {
+    let dy = if y.len() > 1 { y[1] - y[0] } else { 1.0 };
+    y.iter()
+        .position(|&yj| (yj + 0.5 * dy - top).abs() < 0.25 * dy)
+}
+
 /// Axial velocity in the free-surface layer of one field window, next to the two ends.
 #[derive(Debug, Clone, Copy)]
 pub struct EndFlow {
@@ -191,7 +199,6 @@ pub fn end_flow(reader: &RunReader, window: usize, slices: usize) -> Result<EndF
     if window >= u0.len() {
         return Err(reader.layout("fields/u0", format!("has no window {window}")));
     }
-    let dy = if y.len() > 1 { y[1] - y[0] } else { 1.0 };
     let nz = z.len();
     let slices = slices.min(nz / 2).max(1);
     let mean_w = |ks: &[usize], upstream: bool| {
@@ -201,11 +208,7 @@ pub fn end_flow(reader: &RunReader, window: usize, slices: usize) -> Result<EndF
                 if (xi < 0.0) != upstream || !boundary[[window, i, k]].is_finite() {
                     continue;
                 }
-                let top = surface[[window, i, k]];
-                if let Some(j) = y
-                    .iter()
-                    .position(|&yj| (yj + 0.5 * dy - top).abs() < 0.25 * dy)
-                {
+                if let Some(j) = top_bin(&y, surface[[window, i, k]]) {
                     vals.push(vel[[window, 2, i, j, k]]);
                 }
             }
@@ -223,6 +226,43 @@ pub fn end_flow(reader: &RunReader, window: usize, slices: usize) -> Result<EndF
         centre: both(&centre),
         u0: u0[window],
     })
+}
+
+/// The big species' share of the particle volume in the free-surface layer along the axis,
+/// for field window `window`: in every column `(x, z)` with a surface, the top bin (whose
+/// upper edge is `/fields/surface`); per field slice, the big species' volume over all
+/// species' volume in those bins (NaN where a slice has no surface). This is the pattern
+/// seen from above, as thesis ch. 5 reports it.
+pub fn surface_share(
+    reader: &RunReader,
+    window: usize,
+    big: usize,
+) -> Result<Vec<f64>, InspectError> {
+    let x = reader.centres("fields/x")?;
+    let y = reader.centres("fields/y")?;
+    let z = reader.centres("fields/z")?;
+    let vf = reader.array("fields/volume_fraction", &["F", "S", "X", "Y", "ZF"])?;
+    let surface = reader.array("fields/surface", &["F", "X", "ZF"])?;
+    if window >= vf.shape()[0] || big >= vf.shape()[1] {
+        return Err(reader.layout("fields/volume_fraction", "lacks the window or species"));
+    }
+    let species = vf.shape()[1];
+    Ok((0..z.len())
+        .map(|k| {
+            let (mut b, mut all) = (0.0, 0.0);
+            for i in 0..x.len() {
+                if let Some(j) = top_bin(&y, surface[[window, i, k]]) {
+                    b += vf[[window, big, i, j, k]];
+                    all += (0..species).map(|s| vf[[window, s, i, j, k]]).sum::<f64>();
+                }
+            }
+            if all > 0.0 {
+                b / all
+            } else {
+                f64::NAN
+            }
+        })
+        .collect())
 }
 
 #[cfg(test)]
