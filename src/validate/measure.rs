@@ -292,6 +292,103 @@ mod tests {
         assert!((mid - 0.3).abs() < 1e-12, "{mid}");
     }
 
+    /// A field file of one window: 4 x-bins (-1.5..1.5), 4 y-bins (-1.5..1.5), 6 z-bins,
+    /// the surface at y = 1 (top of bin 2) everywhere; in that bin w = `w(x, k)` and the big
+    /// species (1) fills `share(k)` of the volume.
+    fn field_file(
+        dir: &std::path::Path,
+        w: impl Fn(f64, usize) -> f64,
+        share: impl Fn(usize) -> f64,
+    ) -> std::path::PathBuf {
+        use ndarray::{Array1, Array3, Array5};
+        let path = dir.join("fields.h5");
+        let f = hdf5::File::create(&path).unwrap();
+        let g = f.create_group("fields").unwrap();
+        let centres = |n: usize| Array1::from_iter((0..n).map(|i| i as f64 - 0.5 * (n - 1) as f64));
+        let put1 = |name: &str, a: Array1<f64>| {
+            g.new_dataset_builder().with_data(&a).create(name).unwrap();
+        };
+        put1("x", centres(4));
+        put1("y", centres(4));
+        put1("z", centres(6));
+        put1("u0", Array1::from_elem(1, 0.5));
+        let x = centres(4);
+        let mut vel = Array5::<f64>::from_elem((1, 3, 4, 4, 6), f64::NAN);
+        let mut vf = Array5::<f64>::zeros((1, 2, 4, 4, 6));
+        for i in 0..4 {
+            for k in 0..6 {
+                vel[[0, 2, i, 2, k]] = w(x[i], k);
+                vel[[0, 2, i, 1, k]] = 99.0; // below the surface: ignored
+                vf[[0, 1, i, 2, k]] = 0.6 * share(k);
+                vf[[0, 0, i, 2, k]] = 0.6 * (1.0 - share(k));
+            }
+        }
+        g.new_dataset_builder()
+            .with_data(&vel)
+            .create("velocity")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&vf)
+            .create("volume_fraction")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&Array3::<f64>::from_elem((1, 4, 6), 1.0))
+            .create("surface")
+            .unwrap();
+        // the outermost x columns do not flow
+        let mut boundary = Array3::<f64>::from_elem((1, 4, 6), -1.0);
+        for k in 0..6 {
+            boundary[[0, 0, k]] = f64::NAN;
+            boundary[[0, 3, k]] = f64::NAN;
+        }
+        g.new_dataset_builder()
+            .with_data(&boundary)
+            .create("boundary")
+            .unwrap();
+        path
+    }
+
+    #[test]
+    fn end_flow_reads_the_surface_bins_of_flowing_columns() {
+        let dir = tempfile::tempdir().unwrap();
+        // w = sign(x) (k + 1), and 50 in the non-flowing outer columns
+        let path = field_file(
+            dir.path(),
+            |x, k| {
+                if x.abs() > 1.0 {
+                    50.0
+                } else {
+                    x.signum() * (k + 1) as f64
+                }
+            },
+            |_| 0.5,
+        );
+        let r = RunReader::open(&path).unwrap();
+        let f = end_flow(&r, 0, 2).unwrap();
+        assert_eq!(f.low, [-1.5, 1.5]);
+        assert_eq!(f.high, [-5.5, 5.5]);
+        assert_eq!(f.centre, [-3.5, 3.5]);
+        assert_eq!(f.u0, 0.5);
+        assert!(end_flow(&r, 1, 2).is_err(), "there is one window only");
+    }
+
+    #[test]
+    fn surface_share_is_the_big_species_share_of_the_top_bins() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = field_file(
+            dir.path(),
+            |_, _| 0.0,
+            |k| [0.2, 0.2, 0.9, 0.9, 0.2, 0.2][k],
+        );
+        let r = RunReader::open(&path).unwrap();
+        let s = surface_share(&r, 0, 1).unwrap();
+        for (got, want) in s.iter().zip([0.2, 0.2, 0.9, 0.9, 0.2, 0.2]) {
+            assert!((got - want).abs() < 1e-12, "{s:?}");
+        }
+        let t = thirds(&s);
+        assert!(t[1] > t[0].max(t[2]), "SLS: {t:?}");
+    }
+
     #[test]
     fn late_profile_averages_the_last_samples() {
         let s = AxialSeries {
