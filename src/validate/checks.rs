@@ -8,7 +8,7 @@ use super::measure::{
     end_flow, ends_and_centre, segregation_index, surface_share, thirds, AxialSeries,
 };
 use super::{Finding, RunSpec, Runs, Tier, Verdict};
-use crate::inspect::InspectError;
+use crate::inspect::{InspectError, RunReader};
 use crate::plot::{
     plot_field, plot_profile, plot_spacetime, FieldOptions, ProfileOptions, SpacetimeOptions,
 };
@@ -309,14 +309,16 @@ fn judge_bands(runs: &Runs) -> Result<Verdict, InspectError> {
     let onset = |n: usize| {
         series
             .first_with_bands(n)
-            .map_or("none yet".to_string(), |r| format!("rotation {r:.0}"))
+            .map_or("not within the run".to_string(), |r| {
+                format!("at rotation {r:.0}")
+            })
     };
     let findings = vec![
         Finding::judged(
             "#A: bands of the big species".into(),
             "8 bands within the first 50 rotations (merging to 6 later)",
             format!(
-                "{}; first 4 bands at {}, first 8 at {}",
+                "{}; first 4 bands {}, first 8 {}",
                 b.describe(),
                 onset(4),
                 onset(8)
@@ -335,14 +337,44 @@ fn judge_bands(runs: &Runs) -> Result<Verdict, InspectError> {
     })
 }
 
-/// #C-#H: whether each forms bands (Table I).
-const FRICTION_RULE: &[(&str, bool, &str)] = &[
-    ("rapaport2002-C", true, "P-P 2/2, wall 10/2"),
-    ("rapaport2002-D", true, "P-P 10/10, wall 10/2"),
-    ("rapaport2002-E", true, "P-P 10/2, wall 10/10"),
-    ("rapaport2002-F", false, "P-P 2/10, wall 2/10"),
-    ("rapaport2002-G", false, "P-P 2/2, wall 2/10"),
-    ("rapaport2002-H", false, "P-P 10/2, wall 2/10"),
+/// #C-#H: whether each forms bands, the friction coefficients and Table I's band column.
+const FRICTION_RULE: &[(&str, bool, &str, &str)] = &[
+    (
+        "rapaport2002-C",
+        true,
+        "P-P 2/2, wall 10/2",
+        "bands form (Table I: 8)",
+    ),
+    (
+        "rapaport2002-D",
+        true,
+        "P-P 10/10, wall 10/2",
+        "bands form (Table I: 6)",
+    ),
+    (
+        "rapaport2002-E",
+        true,
+        "P-P 10/2, wall 10/10",
+        "bands form (Table I: 8)",
+    ),
+    (
+        "rapaport2002-F",
+        false,
+        "P-P 2/10, wall 2/10",
+        "no segregation (Table I: -)",
+    ),
+    (
+        "rapaport2002-G",
+        false,
+        "P-P 2/2, wall 2/10",
+        "no segregation (Table I: -)",
+    ),
+    (
+        "rapaport2002-H",
+        false,
+        "P-P 10/2, wall 2/10",
+        "no segregation (Table I: -)",
+    ),
 ];
 
 fn runs_friction_rule(tier: Tier) -> Vec<RunSpec> {
@@ -358,7 +390,7 @@ fn runs_friction_rule(tier: Tier) -> Vec<RunSpec> {
 fn judge_friction_rule(runs: &Runs) -> Result<Verdict, InspectError> {
     let mut findings = Vec::new();
     for (k, spec) in runs.specs.iter().enumerate() {
-        let (_, bands, friction) = FRICTION_RULE
+        let (_, bands, friction, seed) = FRICTION_RULE
             .iter()
             .find(|(case, ..)| *case == spec.case)
             .expect("every run is in the table");
@@ -366,11 +398,7 @@ fn judge_friction_rule(runs: &Runs) -> Result<Verdict, InspectError> {
         let label = spec.case.trim_start_matches("rapaport2002-");
         findings.push(Finding::judged(
             format!("#{label} (big/small: {friction})"),
-            if *bands {
-                "bands form (Table I: 8, 6, 8 bands for #C, #D, #E)"
-            } else {
-                "no segregation (Table I: no bands)"
-            },
+            seed,
             b.describe(),
             if *bands { b.segregated() } else { b.mixed() },
         ));
@@ -576,6 +604,7 @@ fn judge_endwall_bands(runs: &Runs) -> Result<Verdict, InspectError> {
             format!("{} bands in all, {inner} inside the end bands", bands.len()),
             inner <= 1,
         ),
+        first_rotation_flux(&runs.readers[0])?,
     ];
     let figures = vec![plot_profile(
         &runs.files[0],
@@ -588,6 +617,38 @@ fn judge_endwall_bands(runs: &Runs) -> Result<Verdict, InspectError> {
         findings,
         figures: [figures, spacetime_figures(runs)?].concat(),
     })
+}
+
+/// Thesis fig. 4.8(a): the mixture's upstream and downstream axial flow rates over the first
+/// rotation, next to each end wall and in the middle.
+fn first_rotation_flux(reader: &RunReader) -> Result<Finding, InspectError> {
+    let up = reader.array("slices/q_up_mixture", &["W", "Z"])?;
+    let down = reader.array("slices/q_down_mixture", &["W", "Z"])?;
+    let row =
+        |a: &ndarray::ArrayD<f64>| -> Vec<f64> { (0..a.shape()[1]).map(|k| a[[0, k]]).collect() };
+    let (up, down) = (row(&up), row(&down));
+    let (up_low, up_high, up_mid) = ends_and_centre(&up, 2);
+    let (down_low, down_high, _) = ends_and_centre(&down, 2);
+    // the middle's magnitude, not its signed mean (which may cancel)
+    let magnitude: Vec<f64> = up.iter().map(|q| q.abs()).collect();
+    let (_, _, mid) = ends_and_centre(&magnitude, 2);
+    let end = up_low.abs().min(up_high.abs());
+    let ml = |q: f64| format!("{:+.2}", q * 1e6);
+    Ok(Finding::judged(
+        "mixture's axial flow rates Q_up / Q_down over rotation 0-1 [mL/s]".into(),
+        "away from each end wall upstream and back downstream from the first rotation; \
+         quite small in the middle (fig. 4.8(a))",
+        format!(
+            "z = -L/2: {} / {}, z = +L/2: {} / {}, middle half: mean Q_up {}, mean |Q_up| {}",
+            ml(up_low),
+            ml(down_low),
+            ml(up_high),
+            ml(down_high),
+            ml(up_mid),
+            ml(mid).trim_start_matches('+')
+        ),
+        up_low > 0.0 && down_low < 0.0 && up_high < 0.0 && down_high > 0.0 && mid < end / 3.0,
+    ))
 }
 
 fn runs_periodic_speed(_: Tier) -> Vec<RunSpec> {
