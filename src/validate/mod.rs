@@ -249,9 +249,10 @@ pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<(String, bool
         if !root {
             continue;
         }
+        let runs = describe_runs(&specs);
         let verdict = judge(check, specs, files, dir);
         let (text, passed) = match verdict {
-            Ok(v) => (render(check, &v, &opts.out), v.passed()),
+            Ok(v) => (render(check, &runs, &v, &opts.out), v.passed()),
             Err(e) => (format!("## {}\n\nerror: {e}\n\n", check.name), false),
         };
         print!("{text}");
@@ -307,12 +308,27 @@ fn finished_with(file: &Path, case_text: &str) -> bool {
         .is_some_and(|t| t == case_text)
 }
 
+/// `Runs: `case` (`key=value`, ...); ...`, or nothing for a check without runs.
+fn describe_runs(specs: &[RunSpec]) -> String {
+    if specs.is_empty() {
+        return String::new();
+    }
+    let runs: Vec<String> = specs
+        .iter()
+        .map(|r| {
+            let sets: Vec<String> = r.overrides.iter().map(|o| format!("`{o}`")).collect();
+            format!("`{}` ({})", r.case, sets.join(", "))
+        })
+        .collect();
+    format!("Runs: {}.\n\n", runs.join("; "))
+}
+
 /// A check's findings as a Markdown section.
-fn render(check: &Check, v: &Verdict, out: &Path) -> String {
+fn render(check: &Check, runs: &str, v: &Verdict, out: &Path) -> String {
     let mut s = String::new();
-    let _ = writeln!(
+    let _ = write!(
         s,
-        "## {} — {}\n\n{}: {}\n",
+        "## {} — {}\n\n{}: {}\n\n{runs}",
         check.name,
         if v.passed() { "pass" } else { "FAIL" },
         check.source,
