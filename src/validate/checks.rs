@@ -605,6 +605,20 @@ fn judge_endwall_bands(runs: &Runs) -> Result<Verdict, InspectError> {
             inner <= 1,
         ),
         first_rotation_flux(&runs.readers[0])?,
+        Finding::note(
+            "large particles at the ends / in the middle, rotation by rotation".into(),
+            "accumulating at the end walls from the first rotation (fig. 4.1(a)-(b))",
+            (0..series.end().round() as usize)
+                .filter_map(|k| {
+                    let p = series.profile_between(k as f64, (k + 1) as f64);
+                    (!p.is_empty()).then(|| {
+                        let (lo, hi, mid) = ends_and_centre(&p, 2);
+                        format!("{k}-{}: {lo:.2}, {hi:.2} / {mid:.2}", k + 1)
+                    })
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
     ];
     let figures = vec![plot_profile(
         &runs.files[0],
@@ -654,7 +668,7 @@ fn first_rotation_flux(reader: &RunReader) -> Result<Finding, InspectError> {
 fn runs_periodic_speed(_: Tier) -> Vec<RunSpec> {
     ["chen2008-ch4-periodic-w6.28", "chen2008-ch4-periodic-w3.14"]
         .iter()
-        .map(|case| RunSpec::new(case, &["run.rotations=16", "output.sample_every=0.25"]))
+        .map(|case| RunSpec::new(case, &["run.rotations=8", "output.sample_every=0.25"]))
         .collect()
 }
 

@@ -51,18 +51,30 @@ impl AxialSeries {
     /// The profile averaged over the samples in the last `rotations` of the run (at least
     /// the last sample); a slice empty in every one of them is NaN.
     pub fn late_profile(&self, rotations: f64) -> Vec<f64> {
-        let from = self.end() - rotations;
-        let mut picked: Vec<&Vec<f64>> = self
+        let end = self.end();
+        let p = self.profile_between(end - rotations, end);
+        if p.is_empty() {
+            mean_profile(&self.big.iter().rev().take(1).collect::<Vec<_>>())
+        } else {
+            p
+        }
+    }
+
+    /// The profile averaged over the samples taken in `(from, to]` rotations (empty if
+    /// there are none).
+    pub fn profile_between(&self, from: f64, to: f64) -> Vec<f64> {
+        let picked: Vec<&Vec<f64>> = self
             .rotations
             .iter()
             .zip(&self.big)
-            .filter(|(r, _)| **r > from + 1e-9)
+            .filter(|(r, _)| **r > from + 1e-9 && **r <= to + 1e-9)
             .map(|(_, p)| p)
             .collect();
         if picked.is_empty() {
-            picked.extend(self.big.last());
+            Vec::new()
+        } else {
+            mean_profile(&picked)
         }
-        mean_profile(&picked)
     }
 
     /// The profile at the first sample.
