@@ -688,7 +688,11 @@ fn judge_periodic_speed(runs: &Runs) -> Result<Verdict, InspectError> {
                 "fluctuations stay small; no band even after 200 rotations (fig. 4.14)"
             },
             b.describe(),
-            if *bands { b.segregated() } else { b.bands.is_empty() },
+            if *bands {
+                b.segregated()
+            } else {
+                b.bands.is_empty()
+            },
         ));
         index.push(b.s_late);
     }
