@@ -10,8 +10,7 @@ use crate::inspect::{effective_rule, BandsOptions, InspectError, RunReader};
 pub struct AxialSeries {
     /// Sample times, in rotations.
     pub rotations: Vec<f64>,
-    /// Slice centres.
-    pub z: Vec<f64>,
+
     /// `big[t][k]`: the big species' volume fraction in slice `k` at sample `t` (NaN if empty).
     pub big: Vec<Vec<f64>>,
     /// The band rule the run used (`/axial/bands` attributes), or the defaults.
@@ -37,7 +36,6 @@ impl AxialSeries {
         let rule = effective_rule(reader, &BandsOptions::default())?;
         Ok(AxialSeries {
             rotations,
-            z,
             big,
             rule,
         })
@@ -54,7 +52,7 @@ impl AxialSeries {
         let end = self.end();
         let p = self.profile_between(end - rotations, end);
         if p.is_empty() {
-            mean_profile(&self.big.iter().rev().take(1).collect::<Vec<_>>())
+            self.big.last().cloned().unwrap_or_default()
         } else {
             p
         }
@@ -405,7 +403,7 @@ mod tests {
     fn late_profile_averages_the_last_samples() {
         let s = AxialSeries {
             rotations: vec![0.0, 1.0, 2.0, 3.0],
-            z: vec![0.0, 1.0],
+
             big: vec![
                 vec![0.0, 0.0],
                 vec![0.2, f64::NAN],
