@@ -24,6 +24,21 @@ pub trait Comm {
         up: Option<usize>,
         to_up: &[f64],
     ) -> (Vec<f64>, Vec<f64>);
+    /// Like [`Comm::exchange`], into buffers the caller has sized to the messages it
+    /// expects (`from_down` from `down`, `from_up` from `up`), running `work` while the
+    /// messages travel. Panics if a message's length differs from its buffer's.
+    #[allow(clippy::too_many_arguments)]
+    fn exchange_into(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        from_down: &mut [f64],
+        up: Option<usize>,
+        to_up: &[f64],
+        from_up: &mut [f64],
+        work: &mut dyn FnMut(),
+    );
+
     /// Maximum of `x` over all ranks.
     fn max_f64(&self, x: f64) -> f64;
     /// Element-wise maximum of `v` over all ranks, on every rank.

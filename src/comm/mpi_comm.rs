@@ -81,6 +81,41 @@ impl Comm for MpiComm {
         })
     }
 
+    fn exchange_into(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        from_down: &mut [f64],
+        up: Option<usize>,
+        to_up: &[f64],
+        from_up: &mut [f64],
+        work: &mut dyn FnMut(),
+    ) {
+        let (n_down, n_up) = (from_down.len(), from_up.len());
+        mpi::request::scope(|scope| {
+            let at = |r: usize| self.world.process_at_rank(r as i32);
+            let recv_down =
+                down.map(|d| at(d).immediate_receive_into_with_tag(scope, from_down, TAG_UP));
+            let recv_up =
+                up.map(|u| at(u).immediate_receive_into_with_tag(scope, from_up, TAG_DOWN));
+            let send_up = up.map(|u| at(u).immediate_send_with_tag(scope, to_up, TAG_UP));
+            let send_down = down.map(|d| at(d).immediate_send_with_tag(scope, to_down, TAG_DOWN));
+            work();
+            let words = |status: mpi::point_to_point::Status| {
+                status.count(f64::equivalent_datatype()) as usize
+            };
+            if let Some(r) = recv_down {
+                assert_eq!(words(r.wait()), n_down, "message length from below");
+            }
+            if let Some(r) = recv_up {
+                assert_eq!(words(r.wait()), n_up, "message length from above");
+            }
+            for r in [send_up, send_down].into_iter().flatten() {
+                r.wait();
+            }
+        })
+    }
+
     fn max_f64(&self, x: f64) -> f64 {
         let mut y = 0.0;
         self.world

@@ -33,6 +33,23 @@ impl Comm for SerialComm {
         };
         (from_down, from_up)
     }
+    fn exchange_into(
+        &self,
+        down: Option<usize>,
+        to_down: &[f64],
+        from_down: &mut [f64],
+        up: Option<usize>,
+        to_up: &[f64],
+        from_up: &mut [f64],
+        work: &mut dyn FnMut(),
+    ) {
+        work();
+        let (d, u) = self.exchange(down, to_down, up, to_up);
+        assert_eq!(d.len(), from_down.len(), "message length from below");
+        assert_eq!(u.len(), from_up.len(), "message length from above");
+        from_down.copy_from_slice(&d);
+        from_up.copy_from_slice(&u);
+    }
     fn max_f64(&self, x: f64) -> f64 {
         x
     }

@@ -1,4 +1,7 @@
-//! The force pass: pair contacts in canonical list order, then walls, then gravity.
+//! The force pass: each owned particle's wall contacts and gravity, then the pair contacts
+//! in canonical list order. The walls need no ghost, so the step computes them while the
+//! ghosts' messages travel; every particle still sums its forces in the same order on any
+//! number of ranks.
 
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
@@ -16,8 +19,9 @@ fn body(p: &Particles, i: usize, scale: f64) -> Body {
     }
 }
 
-/// Zero the forces and torques of all local particles and add the pair contacts; `scale`
-/// multiplies every diameter (1 except while a pour fill grows its particles).
+/// Add the pair contacts to the forces and torques of all local particles (after
+/// [`wall_and_body_forces`]); `scale` multiplies every diameter (1 except while a pour
+/// fill grows its particles).
 pub fn pair_forces(
     p: &mut Particles,
     nl: &mut NeighborList,
@@ -26,12 +30,6 @@ pub fn pair_forces(
     period: Option<f64>,
     scale: f64,
 ) {
-    for f in p.f.iter_mut() {
-        *f = [0.0; 3];
-    }
-    for t in p.t.iter_mut() {
-        *t = [0.0; 3];
-    }
     let full_size = scale == 1.0;
     for ((&(a, b), hist), &cut2) in nl.pairs.iter().zip(nl.hist.iter_mut()).zip(&nl.cut2) {
         let (a, b) = (a as usize, b as usize);
@@ -71,7 +69,8 @@ pub fn pair_forces(
     }
 }
 
-/// Add the wall forces and gravity (along `-y`) to the owned particles.
+/// Zero the forces and torques of all local particles, then give the owned ones their wall
+/// forces and gravity (along `-y`). Reads no ghost.
 pub fn wall_and_body_forces(
     p: &mut Particles,
     walls: &DrumWalls,
@@ -80,6 +79,12 @@ pub fn wall_and_body_forces(
     gravity: f64,
     scale: f64,
 ) {
+    for f in p.f.iter_mut() {
+        *f = [0.0; 3];
+    }
+    for t in p.t.iter_mut() {
+        *t = [0.0; 3];
+    }
     for i in 0..p.n_owned {
         if is_fixed(p.species[i]) {
             continue;

@@ -172,29 +172,47 @@ pub fn borders(
     halo
 }
 
-/// Refresh the ghosts' positions, velocities and spins from their owners.
-pub fn update_ghosts(p: &mut Particles, halo: &Halo, slabs: &Slabs, comm: &dyn Comm) {
+/// The messages of the ghost updates, kept from step to step so that a step allocates
+/// nothing.
+#[derive(Debug, Clone, Default)]
+pub struct UpdateBuffers {
+    to_down: Vec<f64>,
+    to_up: Vec<f64>,
+    from_down: Vec<f64>,
+    from_up: Vec<f64>,
+}
+
+/// Refresh the ghosts' positions, velocities and spins from their owners, running `work`
+/// on the particles while the messages travel (it must not read the ghosts).
+pub fn update_ghosts(
+    p: &mut Particles,
+    halo: &Halo,
+    slabs: &Slabs,
+    comm: &dyn Comm,
+    bufs: &mut UpdateBuffers,
+    work: &mut dyn FnMut(&mut Particles),
+) {
     let me = comm.rank();
     let (down, up) = (slabs.down(me), slabs.up(me));
-    let mut to_down = Vec::with_capacity(halo.send_down.len() * UPDATE_WORDS);
-    let mut to_up = Vec::with_capacity(halo.send_up.len() * UPDATE_WORDS);
+    let UpdateBuffers {
+        to_down,
+        to_up,
+        from_down,
+        from_up,
+    } = bufs;
+    to_down.clear();
+    to_up.clear();
     for &i in &halo.send_down {
-        p.pack_update(i, &mut to_down);
+        p.pack_update(i, to_down);
     }
     for &i in &halo.send_up {
-        p.pack_update(i, &mut to_up);
+        p.pack_update(i, to_up);
     }
-    let (from_down, from_up) = comm.exchange(down, &to_down, up, &to_up);
-    assert_eq!(
-        from_down.len(),
-        halo.n_from_down * UPDATE_WORDS,
-        "ghost update size from below"
-    );
-    assert_eq!(
-        from_up.len(),
-        halo.n_from_up * UPDATE_WORDS,
-        "ghost update size from above"
-    );
+    from_down.resize(halo.n_from_down * UPDATE_WORDS, 0.0);
+    from_up.resize(halo.n_from_up * UPDATE_WORDS, 0.0);
+    comm.exchange_into(down, to_down, from_down, up, to_up, from_up, &mut || {
+        work(p)
+    });
     let first = p.n_owned;
     for (k, rec) in from_down.chunks_exact(UPDATE_WORDS).enumerate() {
         p.unpack_update(first + k, rec);

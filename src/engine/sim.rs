@@ -2,7 +2,7 @@
 
 use super::balance;
 use super::forces::{pair_forces, wall_and_body_forces};
-use super::halo::{self, Halo};
+use super::halo::{self, Halo, UpdateBuffers};
 use super::neighbor::{Grid, NeighborList, SavedHistory};
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
@@ -12,6 +12,7 @@ use crate::particles::{ParticleState, Particles};
 use crate::physics::integrate::{drift, half_kick, min_image};
 use crate::physics::rough_wall::{is_fixed, RoughWall};
 use crate::physics::{law, ContactLaw, DrumWalls, Materials};
+use std::time::Instant;
 
 /// Why a decomposition cannot be used.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,6 +42,7 @@ pub struct Sim<'c> {
     /// Owned particles, then ghosts.
     pub p: Particles,
     halo: Halo,
+    ghost_bufs: UpdateBuffers,
     nl: NeighborList,
     /// Steps taken since time zero.
     pub step: u64,
@@ -74,7 +76,7 @@ impl<'c> Sim<'c> {
     ) -> Result<Self, DecompositionError> {
         let mut sim = Self::assemble(case, comm, initial)?;
         sim.rebuild();
-        sim.forces();
+        sim.forces_advancing(true);
         Ok(sim)
     }
 
@@ -149,6 +151,7 @@ impl<'c> Sim<'c> {
             slabs,
             p,
             halo: Halo::default(),
+            ghost_bufs: UpdateBuffers::default(),
             nl: NeighborList::default(),
             step: 0,
             dt: case.dt(),
@@ -183,8 +186,8 @@ impl<'c> Sim<'c> {
         self.comm
     }
 
-    /// Advance one time step (velocity Verlet):
-    /// half kick, drift, halo (rebuilt or refreshed), forces, half kick.
+    /// Advance one time step (velocity Verlet): half kick, drift, halo (rebuilt, or refreshed
+    /// while the wall forces are computed), forces, half kick.
     pub fn step(&mut self) {
         let dt = self.dt;
         let period = self.period();
@@ -220,10 +223,11 @@ impl<'c> Sim<'c> {
         // rank and not on another (last-bit differences of periodic images) never touch.
         if 2.0 * moved > self.skin * (1.0 - 1e-9) {
             self.rebuild();
+            self.wall_and_body_forces(true);
         } else {
-            self.update_ghosts();
+            self.update_ghosts_during_wall_forces();
         }
-        self.forces();
+        self.pair_forces(true);
         self.half_kick();
         self.step += 1;
     }
@@ -248,9 +252,40 @@ impl<'c> Sim<'c> {
 
     /// Refresh the ghosts' positions, velocities and spins from their owners.
     fn update_ghosts(&mut self) {
-        let (p, halo, slabs, comm) = (&mut self.p, &self.halo, &self.slabs, self.comm);
-        self.timers
-            .time(Phase::Comm, || halo::update_ghosts(p, halo, slabs, comm));
+        let (p, halo, slabs, comm, bufs) = (
+            &mut self.p,
+            &self.halo,
+            &self.slabs,
+            self.comm,
+            &mut self.ghost_bufs,
+        );
+        self.timers.time(Phase::Comm, || {
+            halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |_| {})
+        });
+    }
+
+    /// Refresh the ghosts, computing the owned particles' wall forces and gravity (which
+    /// need no ghost) while the messages travel.
+    fn update_ghosts_during_wall_forces(&mut self) {
+        let (p, halo, slabs, comm, bufs) = (
+            &mut self.p,
+            &self.halo,
+            &self.slabs,
+            self.comm,
+            &mut self.ghost_bufs,
+        );
+        let (walls, law, mat, g, scale) =
+            (&self.walls, &self.law, &self.mat, self.gravity, self.scale);
+        let mut wall_secs = 0.0;
+        let start = Instant::now();
+        halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |p| {
+            let t0 = Instant::now();
+            wall_and_body_forces(p, walls, law, mat, g, scale);
+            wall_secs += t0.elapsed().as_secs_f64();
+        });
+        let total = start.elapsed().as_secs_f64();
+        self.timers.add(Phase::Walls, wall_secs);
+        self.timers.add(Phase::Comm, total - wall_secs);
     }
 
     /// Put the rough wall's particles where the drum has carried them (angle `angle`).
@@ -309,22 +344,45 @@ impl<'c> Sim<'c> {
         self.rebuilds += 1;
     }
 
-    fn forces(&mut self) {
-        self.forces_advancing(true);
+    /// The law of the force pass; `advance = false` recomputes the forces of the current
+    /// instant without adding another step's sliding to the tangential histories.
+    fn law_advancing(&self, advance: bool) -> ContactLaw {
+        if advance {
+            self.law
+        } else {
+            self.law.frozen()
+        }
     }
 
-    /// The force pass; `advance = false` recomputes the forces of the current instant
-    /// without adding another step's sliding to the tangential histories.
-    fn forces_advancing(&mut self, advance: bool) {
-        let period = self.period();
-        let law = if advance { self.law } else { self.law.frozen() };
-        let (p, nl, law, mat, scale) = (&mut self.p, &mut self.nl, &law, &self.mat, self.scale);
-        self.timers
-            .time(Phase::Pairs, || pair_forces(p, nl, law, mat, period, scale));
-        let (walls, g) = (&self.walls, self.gravity);
+    /// The first half of the force pass: forces zeroed, then the walls and gravity.
+    fn wall_and_body_forces(&mut self, advance: bool) {
+        let law = self.law_advancing(advance);
+        let (p, walls, mat, g, scale) = (
+            &mut self.p,
+            &self.walls,
+            &self.mat,
+            self.gravity,
+            self.scale,
+        );
         self.timers.time(Phase::Walls, || {
-            wall_and_body_forces(p, walls, law, mat, g, scale)
+            wall_and_body_forces(p, walls, &law, mat, g, scale)
         });
+    }
+
+    /// The second half of the force pass: the pair contacts.
+    fn pair_forces(&mut self, advance: bool) {
+        let period = self.period();
+        let law = self.law_advancing(advance);
+        let (p, nl, mat, scale) = (&mut self.p, &mut self.nl, &self.mat, self.scale);
+        self.timers.time(Phase::Pairs, || {
+            pair_forces(p, nl, &law, mat, period, scale)
+        });
+    }
+
+    /// The whole force pass.
+    fn forces_advancing(&mut self, advance: bool) {
+        self.wall_and_body_forces(advance);
+        self.pair_forces(advance);
     }
 
     /// Remove the owned particles for which `cut` holds (all ranks call this together), and
