@@ -35,10 +35,11 @@
 # /proc every 0.2 s). Per particle: the ranks' peak RSS summed, divided by the particles.
 # Excluding the ~fixed baseline of a process (MPI, HDF5, the diagnostics' window sums): small
 # runs of the same case and length on 1 and 2 ranks (ch. 4: a quarter of the bed's particles
-# along the curved wall; #A: its lattice at 1/20 of the density) give the baseline, the smallest peak RSS of any of
-# their ranks, and (sum of peak RSS - ranks x baseline) / particles is what a particle costs.
-# (The small runs' own rank 0 is no baseline on 2 ranks: with a few hundred particles or
-# fewer it peaks 10-30 MB higher than with the whole bed; both ranks' values are shown.)
+# along the curved wall; #A: its lattice at 1/20 of the density) give the baseline on the
+# same number of ranks, and (sum of peak RSS - sum of the small run's peak RSS) /
+# (particles - small run's particles) is what a particle costs. (Rank 0 holds the
+# reductions and gathers, so on 2 ranks its baseline is higher than the other rank's; both
+# ranks' values are shown.)
 # `tumbler check`'s estimate is shown beside.
 #
 # Other settings: PEER_WORK (work directory), PEER_FRESH=1 (new bed), PEER_START
@@ -261,7 +262,7 @@ median_of() { echo "${1:-}" | tr ' ' '\n' | median; }
 list() { tr ' ' '\n' | sed '/^$/d' | paste -sd' ' - | sed 's/ /, /g'; }
 
 # ---- 3. the runs ----
-declare -A rate_t rate_l phase rss_sum rss_max rss_min rss_ranks count
+declare -A rate_t rate_l phase rss_sum rss_max rss_ranks count
 phase_names=""
 run_tumbler() {  # tag np log args...
   local tag="$1" np="$2" log="$3"; shift 3
@@ -272,7 +273,6 @@ run_tumbler() {  # tag np log args...
   count[$tag]=$(tumbler_particles "$log")
   rss_sum[$tag.$np]="${rss_sum[$tag.$np]:-} $(peak_rss "$log" | awk '{s += $1} END {print s + 0}')"
   rss_max[$tag.$np]="${rss_max[$tag.$np]:-} $(peak_rss "$log" | awk '$1 > m {m = $1} END {print m + 0}')"
-  rss_min[$tag.$np]="${rss_min[$tag.$np]:-} $(peak_rss "$log" | sort -g | head -n1)"
   rss_ranks[$tag.$np]=$(peak_rss "$log" | sort -g | awk '{printf "%s%.1f", (NR > 1 ? ", " : ""), $1 / 1024}')
   local name secs
   while IFS='|' read -r name secs; do
@@ -369,24 +369,19 @@ phase_rows() {  # tag: median seconds per phase, 1 and 2 ranks
     echo "| $name | $(median_of "${phase[$1.1.$name]:-}") | $(median_of "${phase[$1.2.$name]:-}") |"
   done
 }
-baseline_kb() {  # small-tag: the smallest peak RSS of a rank in the small runs (kB)
-  echo "$(median_of "${rss_min[$1.1]:-}") $(median_of "${rss_min[$1.2]:-}")" | tr ' ' '\n' | grep -v '^-$' | sort -g | head -n1
-}
 memory_rows() {  # tag small-tag case check-args...
-  local tag="$1" small="$2" case_file="$3" np est base; shift 3
-  base=$(baseline_kb "$small")
+  local tag="$1" small="$2" case_file="$3" np est; shift 3
   for np in 1 2; do
     est=$("$bin" check "$case_file" "$@" --ranks "$np" 2>/dev/null | sed -n 's/.*(\([0-9]*\) B per particle).*/\1/p')
     awk -v np="$np" -v s="$(median_of "${rss_sum[$tag.$np]:-}")" -v mx="$(median_of "${rss_max[$tag.$np]:-}")" \
-      -v ranks="${rss_ranks[$tag.$np]:-}" -v n="${count[$tag]}" -v base="${base:--}" \
-      -v branks="${rss_ranks[$small.$np]:-}" -v est="${est:--}" 'BEGIN {
-        excl = (base == "-") ? "-" : sprintf("%.0f", (s - np * base) * 1024 / n)
+      -v ranks="${rss_ranks[$tag.$np]:-}" -v n="${count[$tag]}" -v base="$(median_of "${rss_sum[$small.$np]:-}")" \
+      -v n_small="${count[$small]:-0}" -v branks="${rss_ranks[$small.$np]:-}" -v est="${est:--}" 'BEGIN {
+        excl = (base == "-" || n <= n_small) ? "-" : sprintf("%.0f", (s - base) * 1024 / (n - n_small))
         printf "| %d | %.1f (%s) | %.0f | %s | %s | %s |\n", np, mx / 1024, ranks, s * 1024 / n, branks, excl, est }'
   done
 }
 memory_header() {  # small-tag
-  local base; base=$(baseline_kb "$1")
-  echo "| ranks | peak RSS per rank, MiB: largest (all) | B/particle: sum of peak RSS / particles | small run (${count[$1]:-?} particles): peak RSS per rank, MiB | B/particle excl. baseline: (sum of peak RSS - ranks x $(awk -v b="${base:-0}" 'BEGIN {printf "%.1f", b / 1024}') MiB) / particles | \`tumbler check\` estimate, B/particle |"
+  echo "| ranks | peak RSS per rank, MiB: largest (all) | B/particle: sum of peak RSS / particles | small run (${count[$1]:-?} particles): peak RSS per rank, MiB | B/particle excl. baseline: (sum of peak RSS - the small run's sum on as many ranks) / (particles - the small run's) | \`tumbler check\` estimate, B/particle |"
   echo "|---|---|---|---|---|---|"
 }
 
