@@ -225,7 +225,7 @@ impl<'c> Sim<'c> {
             self.rebuild();
             self.wall_and_body_forces(true);
         } else {
-            self.update_ghosts_during_wall_forces();
+            self.update_ghosts_during_wall_forces(true);
         }
         self.pair_forces(true);
         self.half_kick();
@@ -250,23 +250,12 @@ impl<'c> Sim<'c> {
         });
     }
 
-    /// Refresh the ghosts' positions, velocities and spins from their owners.
-    fn update_ghosts(&mut self) {
-        let (p, halo, slabs, comm, bufs) = (
-            &mut self.p,
-            &self.halo,
-            &self.slabs,
-            self.comm,
-            &mut self.ghost_bufs,
-        );
-        self.timers.time(Phase::Comm, || {
-            halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |_| {})
-        });
-    }
+    /// Refresh the ghosts' positions, velocities and spins from their owners, computing the
+    /// owned particles' wall forces and gravity (the first half of the force pass, which
+    /// needs no ghost) while the messages travel.
+    fn update_ghosts_during_wall_forces(&mut self, advance: bool) {
+        let law = self.law_advancing(advance);
 
-    /// Refresh the ghosts, computing the owned particles' wall forces and gravity (which
-    /// need no ghost) while the messages travel.
-    fn update_ghosts_during_wall_forces(&mut self) {
         let (p, halo, slabs, comm, bufs) = (
             &mut self.p,
             &self.halo,
@@ -274,8 +263,7 @@ impl<'c> Sim<'c> {
             self.comm,
             &mut self.ghost_bufs,
         );
-        let (walls, law, mat, g, scale) =
-            (&self.walls, &self.law, &self.mat, self.gravity, self.scale);
+        let (walls, law, mat, g, scale) = (&self.walls, &law, &self.mat, self.gravity, self.scale);
         let mut wall_secs = 0.0;
         let start = Instant::now();
         halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |p| {
@@ -455,8 +443,8 @@ impl<'c> Sim<'c> {
     /// the predicted ones of the last step, or a pair across a slab face would be evaluated
     /// with different inputs on its two sides.
     pub fn refresh_forces(&mut self) {
-        self.update_ghosts();
-        self.forces_advancing(false);
+        self.update_ghosts_during_wall_forces(false);
+        self.pair_forces(false);
     }
 
     /// Mean over axial slices (of width about `width`) of the highest particle centre.
@@ -475,8 +463,9 @@ impl<'c> Sim<'c> {
 
     /// This rank's verdict on the state: non-finite values, particles outside the drum, or an
     /// overlap above `max_overlap` of the smaller diameter, with the particle, the step and
-    /// the likely cause. Every rank checks its own particles.
-    pub fn health(&self, max_overlap: f64) -> Result<(), String> {
+    /// the likely cause. `limit` names where the overlap limit comes from, for the message.
+    /// Every rank checks its own particles.
+    pub fn health(&self, max_overlap: f64, limit: &str) -> Result<(), String> {
         let cause = "the time step is probably too large for the contact stiffness or damping \
                      (see `tumbler check`), or the particles were started too fast";
         let (r, half) = (self.walls.radius, self.walls.half_length);
@@ -505,7 +494,7 @@ impl<'c> Sim<'c> {
         if overlap > max_overlap {
             return Err(format!(
                 "run stopped at step {}: particles {a} and {b} overlap by {:.1} % of the smaller diameter \
-                 (run.max_overlap is {:.1} %); {cause}",
+                 ({limit} is {:.1} %); {cause}",
                 self.step,
                 100.0 * overlap,
                 100.0 * max_overlap

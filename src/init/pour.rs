@@ -242,7 +242,10 @@ fn healthy(sim: &Sim, case: &Case, stage: &str, last: bool) -> Result<(), String
     if sim.step % CHECK_EVERY != 0 && !last {
         return Ok(());
     }
-    let health = sim.health(case.run.max_overlap.max(POUR_MAX_OVERLAP));
+    let health = sim.health(
+        case.run.max_overlap.max(POUR_MAX_OVERLAP),
+        "the pour's limit (the larger of run.max_overlap and 50 %)",
+    );
     if let Err(e) = &health {
         log::error!("pour, {stage}: {e}");
     }

@@ -275,7 +275,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             imbalance = balance_check(&mut sim, case, file.as_ref())?;
         }
         if sim.step % STOP_CHECK_EVERY == 0 {
-            let health = sim.health(case.run.max_overlap);
+            let health = sim.health(case.run.max_overlap, "run.max_overlap");
             if let Err(e) = &health {
                 log::error!("{e}");
             }

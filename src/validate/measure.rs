@@ -10,7 +10,6 @@ use crate::inspect::{effective_rule, BandsOptions, InspectError, RunReader};
 pub struct AxialSeries {
     /// Sample times, in rotations.
     pub rotations: Vec<f64>,
-
     /// `big[t][k]`: the big species' volume fraction in slice `k` at sample `t` (NaN if empty).
     pub big: Vec<Vec<f64>>,
     /// The band rule the run used (`/axial/bands` attributes), or the defaults.
@@ -403,7 +402,6 @@ mod tests {
     fn late_profile_averages_the_last_samples() {
         let s = AxialSeries {
             rotations: vec![0.0, 1.0, 2.0, 3.0],
-
             big: vec![
                 vec![0.0, 0.0],
                 vec![0.2, f64::NAN],
