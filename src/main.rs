@@ -1,7 +1,7 @@
 //! The `tumbler` command line.
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -384,10 +384,7 @@ fn main() -> ExitCode {
                     return ExitCode::from(2);
                 }
             };
-            let output = output.unwrap_or_else(|| {
-                let stem = case.file_stem().map(|s| s.to_owned()).unwrap_or_default();
-                PathBuf::from(stem).with_extension("h5")
-            });
+            let output = output.unwrap_or_else(|| default_output(&case));
             // SIGTERM/SIGINT (what Slurm and a user send): finish the step, checkpoint, stop
             // with EXIT_STOPPED; a second one stops at once (exit 130).
             let stop = Arc::new(AtomicBool::new(false));
@@ -418,5 +415,29 @@ fn main() -> ExitCode {
                 }
             }
         }
+    }
+}
+
+/// The run's file when `--output` is not given: the case's file name with `.toml` replaced
+/// by `.h5`, in the current directory. Only the last extension goes, so a case named after
+/// its speed (`w6.28.toml`) keeps the `.28`.
+fn default_output(case: &Path) -> PathBuf {
+    let mut name = case.file_stem().map(|s| s.to_owned()).unwrap_or_default();
+    name.push(".h5");
+    PathBuf::from(name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_output_keeps_dots_in_the_case_name() {
+        let out = default_output(Path::new("cases/chen2008-ch4-periodic-w6.28.toml"));
+        assert_eq!(out, PathBuf::from("chen2008-ch4-periodic-w6.28.h5"));
+        assert_eq!(
+            default_output(Path::new("quickstart.toml")),
+            PathBuf::from("quickstart.h5")
+        );
     }
 }
