@@ -101,7 +101,8 @@ enum Command {
         /// The folder for the runs, the figures and `report.md`.
         #[arg(short, long, default_value = "validation")]
         out: PathBuf,
-        /// Judge a finished run again instead of rerunning it, when its case is unchanged.
+        /// Judge a finished run again instead of rerunning it, when its case has the same keys
+        /// (the title and comments may differ).
         #[arg(long)]
         reuse: bool,
         /// List the checks and stop.

@@ -149,3 +149,25 @@ fn set_in_table(table: &mut dyn TableLike, parts: &[&str], value: Value) -> Resu
         _ => Err(format!("`{head}` is a value, not a table")),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_is_the_same_whatever_the_title_and_comments() {
+        let text = crate::validate::case_text("rapaport2002-A").unwrap();
+        let case = parse_case(text, "A").unwrap();
+        let retitled = format!("# another header\n{}", text).replacen(
+            &format!("title = {:?}", case.title),
+            "title = \"renamed\"",
+            1,
+        );
+        let other = parse_case(&retitled, "retitled").unwrap();
+        assert_eq!(other.title, "renamed");
+        assert!(case.same_run_as(&other));
+        let reseeded = apply_overrides(text, &["seed=7".into()], "reseeded").unwrap();
+        let reseeded = parse_case(&reseeded, "reseeded").unwrap();
+        assert!(!case.same_run_as(&reseeded), "the seed changes the run");
+    }
+}

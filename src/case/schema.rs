@@ -6,6 +6,21 @@
 use serde::{Deserialize, Serialize};
 
 impl Case {
+    /// Whether a run of `other` is a run of this case: every key the same but the title
+    /// (comments are not part of the parsed case either).
+    pub fn same_run_as(&self, other: &Case) -> bool {
+        let untitled = |c: &Case| {
+            format!(
+                "{:?}",
+                Case {
+                    title: String::new(),
+                    ..c.clone()
+                }
+            )
+        };
+        untitled(self) == untitled(other)
+    }
+
     /// Largest nominal diameter.
     pub fn d_max(&self) -> f64 {
         self.species.iter().map(|s| s.diameter).fold(0.0, f64::max)

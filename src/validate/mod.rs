@@ -7,13 +7,14 @@
 //!
 //! Every rank takes part in every run; rank 0 reads the files, draws the figures and
 //! judges. Runs go to `OUT/<check>/<case>.h5`; with `--reuse`, a finished file whose case
-//! text is exactly the one this check would run is judged again instead of rerun.
+//! has every key the same as the one this check would run (the title and comments may
+//! differ) is judged again instead of rerun.
 
 pub mod analytic;
 pub mod checks;
 pub mod measure;
 
-use crate::case::{apply_overrides, parse_case, LoadedCase};
+use crate::case::{apply_overrides, parse_case, Case, LoadedCase};
 use crate::comm::Comm;
 use crate::inspect::{attr_string, InspectError, RunReader};
 use crate::run::{run, RunEnd, RunOptions};
@@ -228,7 +229,7 @@ pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<(String, bool
                 std::fs::create_dir_all(&dir)
                     .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
             }
-            let reuse = root && opts.reuse && finished_with(&file, &lc.text);
+            let reuse = root && opts.reuse && finished_with(&file, &lc.case);
             if comm.sum_u64(reuse as u64) == 0 {
                 let opts = RunOptions {
                     output: file.clone(),
@@ -300,12 +301,14 @@ fn judge(
     })
 }
 
-/// Whether `file` is a finished run of exactly `case_text`.
-fn finished_with(file: &Path, case_text: &str) -> bool {
+/// Whether `file` is a finished run of `case`: its stored case has every key the same but
+/// the title, so editing a case file's comments does not throw a long run away.
+fn finished_with(file: &Path, case: &Case) -> bool {
     hdf5::File::open(file)
         .ok()
         .and_then(|f| attr_string(&f, "case"))
-        .is_some_and(|t| t == case_text)
+        .and_then(|t| parse_case(&t, "stored case").ok())
+        .is_some_and(|stored| stored.same_run_as(case))
 }
 
 /// `Runs: `case` (`key=value`, ...); ...`, or nothing for a check without runs.
