@@ -1,10 +1,10 @@
 //! The figures the validation checks read from a run's file: the big species' axial
 //! profile late in the run, its band structure and a segregation index, the share of the
-//! big species near the ends and at the equator, and the axial flow in the free-surface
-//! layer next to each end wall.
+//! big species near the ends and at the equator, the axial flow in the free-surface layer
+//! next to each end wall, and the angle of repose of rich and poor slices.
 
 use crate::diag::bands::{find_bands, Band, BandRule};
-use crate::inspect::{effective_rule, BandsOptions, InspectError, RunReader};
+use crate::inspect::{effective_rule, BandsOptions, InspectError, RunReader, Window};
 
 /// The big species' volume fraction along the axis at every axial sample.
 pub struct AxialSeries {
@@ -237,6 +237,59 @@ pub fn end_flow(reader: &RunReader, window: usize, slices: usize) -> Result<EndF
     })
 }
 
+/// Dynamic angle of repose against composition in one `/slices` window.
+#[derive(Debug, Clone)]
+pub struct AngleByComposition {
+    /// The window measured: the last whole one.
+    pub window: Window,
+    /// The third of the slices richest in the big species: its mean share and mean angle
+    /// (degrees).
+    pub rich: [f64; 2],
+    /// The third poorest in it: the same.
+    pub poor: [f64; 2],
+}
+
+/// [`AngleByComposition`] of the last whole window of `/slices` (a run's final window can be
+/// a fragment, and a fragment's angles rest on a sample or two): the slices with both a
+/// share and an angle, sorted by the big species' share (`/slices/concentration`); the mean
+/// share and angle (`/slices/angle`) of the richest third and of the poorest third.
+pub fn angle_by_composition(
+    reader: &RunReader,
+    big: usize,
+) -> Result<AngleByComposition, InspectError> {
+    let starts = reader.vector("slices/rotations_start")?;
+    let ends = reader.vector("slices/rotations_end")?;
+    let length: Vec<f64> = starts.iter().zip(&ends).map(|(s, e)| e - s).collect();
+    let longest = length.iter().copied().fold(0.0, f64::max);
+    let index = length
+        .iter()
+        .rposition(|&l| l >= 0.99 * longest)
+        .ok_or_else(|| reader.layout("slices/rotations_start", "holds no window"))?;
+    let window = reader.window("slices", Some(index))?;
+    let share = reader.array("slices/concentration", &["W", "S", "Z"])?;
+    let angle = reader.array("slices/angle", &["W", "Z"])?;
+    if big >= share.shape()[1] || share.shape()[2] != angle.shape()[1] {
+        return Err(reader.layout("slices/concentration", "does not match /slices/angle"));
+    }
+    let mut slices: Vec<[f64; 2]> = (0..angle.shape()[1])
+        .map(|k| [share[[index, big, k]], angle[[index, k]]])
+        .filter(|s| s[0].is_finite() && s[1].is_finite())
+        .collect();
+    slices.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let third = (slices.len() / 3).max(1);
+    let mean = |part: &[[f64; 2]]| {
+        [
+            finite_mean(part.iter().map(|s| s[0])),
+            finite_mean(part.iter().map(|s| s[1])),
+        ]
+    };
+    Ok(AngleByComposition {
+        rich: mean(&slices[slices.len().saturating_sub(third)..]),
+        poor: mean(&slices[..third.min(slices.len())]),
+        window,
+    })
+}
+
 /// The big species' share of the particle volume in the free-surface layer along the axis,
 /// for field window `window`: in every column `(x, z)` with a surface, the top bin (whose
 /// upper edge is `/fields/surface`); per field slice, the big species' volume over all
@@ -417,5 +470,54 @@ mod tests {
         let p = s.late_profile(2.0);
         assert!((p[0] - 0.5).abs() < 1e-12 && p[1] == 1.0);
         assert_eq!(s.late_profile(0.0), vec![0.6, 1.0]);
+    }
+    /// Two whole windows and a final fragment; in window 1 the big species' share and the
+    /// angle rise together along 6 slices (one empty, one without an angle).
+    #[test]
+    fn angle_by_composition_reads_the_last_whole_window() {
+        use ndarray::{Array1, Array2, Array3};
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("slices.h5");
+        let f = hdf5::File::create(&path).unwrap();
+        let g = f.create_group("slices").unwrap();
+        let put1 = |name: &str, v: &[f64]| {
+            let a = Array1::from_vec(v.to_vec());
+            g.new_dataset_builder().with_data(&a).create(name).unwrap();
+        };
+        put1("rotations_start", &[0.0, 1.0, 2.0]);
+        put1("rotations_end", &[1.0, 2.0, 2.02]);
+        let share = [0.1, 0.2, f64::NAN, 0.5, 0.8, 0.9, 0.95];
+        let angle = [20.0, 21.0, 22.0, f64::NAN, 28.0, 29.0, 30.0];
+        let mut c = Array3::<f64>::from_elem((3, 2, 7), 0.5);
+        let mut a = Array2::<f64>::from_elem((3, 7), 99.0); // the fragment: ignored
+        for k in 0..7 {
+            c[[1, 1, k]] = share[k];
+            c[[1, 0, k]] = 1.0 - share[k];
+            a[[1, k]] = angle[k];
+        }
+        g.new_dataset_builder()
+            .with_data(&c)
+            .create("concentration")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&a)
+            .create("angle")
+            .unwrap();
+        drop(g);
+        drop(f);
+        let r = RunReader::open(&path).unwrap();
+        let m = angle_by_composition(&r, 1).unwrap();
+        assert_eq!(m.window.index, 1);
+        // usable slices: 0, 1, 4, 5, 6 -> thirds of 1: poorest slice 0, richest slice 6
+        assert_eq!(m.poor, [0.1, 20.0]);
+        assert_eq!(m.rich, [0.95, 30.0]);
+        let m0 = angle_by_composition(&r, 0).unwrap();
+        // species 0 reads the profile the other way round
+        assert!(
+            (m0.poor[0] - 0.05).abs() < 1e-12 && m0.poor[1] == 30.0,
+            "{:?}",
+            m0.poor
+        );
+        assert_eq!(m0.rich, [0.9, 20.0]);
     }
 }
