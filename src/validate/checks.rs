@@ -244,6 +244,11 @@ fn rapaport(
     }
 }
 
+/// `1 band`, `2 bands`.
+fn bands_word(n: usize) -> String {
+    format!("{n} band{}", if n == 1 { "" } else { "s" })
+}
+
 /// The last rotations over which profiles are averaged.
 const LATE: f64 = 5.0;
 
@@ -289,8 +294,8 @@ fn banding(series: &AxialSeries) -> Banding {
 impl Banding {
     fn describe(&self) -> String {
         format!(
-            "{} bands after {:.0} rotations, segregation index {:.2} -> {:.2}",
-            self.bands.len(),
+            "{} after {:.0} rotations, segregation index {:.2} -> {:.2}",
+            bands_word(self.bands.len()),
             self.end,
             self.s_start,
             self.s_late
@@ -608,7 +613,10 @@ fn judge_endwall_bands(runs: &Runs) -> Result<Verdict, InspectError> {
         Finding::judged(
             "bands away from the ends".into(),
             "none yet: the end bands come first",
-            format!("{} bands in all, {inner} inside the end bands", bands.len()),
+            format!(
+                "{} in all, {inner} inside the end bands",
+                bands_word(bands.len())
+            ),
             inner <= 1,
         ),
         first_rotation_flux(&runs.readers[0])?,
