@@ -8,8 +8,8 @@
 #
 # 1. installs LAMMPS (`apt-get install lammps`) if `lmp` is missing, builds tumbler;
 # 2. prepares the reference bed once, in the work directory (PEER_WORK, default
-#    target/bench-peer): cases/chen2008-ch4-endwalls.toml with the Cundall-Strack tangential
-#    force (`model.tangential = "history"`, its `gamma_s` dropped: bed-case.toml), poured and
+#    target/bench-peer): cases/chen2008-ch4-endwalls.toml, whose tangential force is the
+#    Cundall-Strack one (the script makes sure of it: bed-case.toml), poured and
 #    turned for 0.5 rotations (1 s) on 2 ranks -> bed.h5, exported with
 #    `tumbler export bed.h5 --lammps bed.data`. A bed made from the same bed-case.toml is
 #    reused by later invocations; PEER_FRESH=1 makes a new one;
@@ -120,7 +120,8 @@ EOF
 fi
 
 # ---- 2. the reference bed ----
-# the ch. 4 case with the Cundall-Strack history force (the LAMMPS deck's linear_history)
+# the ch. 4 case with the Cundall-Strack history force (the LAMMPS deck's linear_history);
+# the case uses it already, the edit guards against a case switched back to "viscous"
 sed -e '/^gamma_s *=/d' -e 's/^tangential *= *"viscous"/tangential = "history"/' \
   "$case_src" >bed-case.toml.new
 grep -q '^tangential = "history"' bed-case.toml.new || fail "could not switch $case_src to the history force"
