@@ -471,8 +471,9 @@ mod tests {
         assert!((p[0] - 0.5).abs() < 1e-12 && p[1] == 1.0);
         assert_eq!(s.late_profile(0.0), vec![0.6, 1.0]);
     }
+
     /// Two whole windows and a final fragment; in window 1 the big species' share and the
-    /// angle rise together along 6 slices (one empty, one without an angle).
+    /// angle rise together along 7 slices (one empty, one without an angle).
     #[test]
     fn angle_by_composition_reads_the_last_whole_window() {
         use ndarray::{Array1, Array2, Array3};
