@@ -102,7 +102,8 @@ enum Command {
         #[arg(short, long, default_value = "validation")]
         out: PathBuf,
         /// Judge a finished run again instead of rerunning it, when its case has the same keys
-        /// (the title and comments may differ).
+        /// (the title and comments may differ); continue an unfinished one from its
+        /// checkpoint.
         #[arg(long)]
         reuse: bool,
         /// List the checks and stop.
@@ -252,14 +253,29 @@ fn plot(what: PlotCommand) -> ExitCode {
     report(written.map(|path| format!("wrote {}\n", path.display())))
 }
 
+/// SIGTERM/SIGINT (what Slurm and a user send) set the returned flag, which makes a run
+/// finish its step, checkpoint and stop with `EXIT_STOPPED`; a second one stops at once
+/// (exit 130).
+fn stop_on_signals() -> Result<Arc<AtomicBool>, String> {
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
+        signal_hook::flag::register_conditional_shutdown(sig, 130, Arc::clone(&stop))
+            .and_then(|_| signal_hook::flag::register(sig, Arc::clone(&stop)))
+            .map_err(|e| format!("cannot handle signal {sig}: {e}"))?;
+    }
+    Ok(stop)
+}
+
 /// `tumbler validate`: every rank runs; rank 0 judges, prints and sets the exit code.
 fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: bool) -> ExitCode {
-    use tumbler::validate::{select, validate, Tier, ValidateOptions, EXIT_CHECK_FAILED};
+    use tumbler::validate::{
+        select, validate, Tier, ValidateEnd, ValidateOptions, EXIT_CHECK_FAILED,
+    };
     if list {
         print!("{}", tumbler::validate::list());
         return ExitCode::SUCCESS;
     }
-    let opts = ValidateOptions {
+    let mut opts = ValidateOptions {
         tier: match tier {
             TierArg::Ci => Tier::Ci,
             TierArg::Full => Tier::Full,
@@ -267,6 +283,7 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
         only,
         out,
         reuse,
+        stop: None,
     };
     if let Err(e) = select(&opts) {
         eprintln!("error: {e}");
@@ -278,10 +295,26 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
     };
     let comm = MpiComm::new(&universe);
     let root = comm.rank() == 0;
+    match stop_on_signals() {
+        Ok(stop) => opts.stop = Some(stop),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    }
     match validate(&comm, &opts) {
-        Ok((_, true)) => ExitCode::SUCCESS,
-        Ok((_, false)) if root => ExitCode::from(EXIT_CHECK_FAILED),
-        Ok(_) => ExitCode::SUCCESS,
+        Ok(ValidateEnd::Judged { passed: true, .. }) => ExitCode::SUCCESS,
+        Ok(ValidateEnd::Judged { passed: false, .. }) if root => ExitCode::from(EXIT_CHECK_FAILED),
+        Ok(ValidateEnd::Judged { .. }) => ExitCode::SUCCESS,
+        Ok(ValidateEnd::Stopped { checkpoint }) => {
+            if root {
+                eprintln!(
+                    "stopped by a signal after writing {}; the same command with --reuse continues",
+                    checkpoint.display()
+                );
+            }
+            ExitCode::from(EXIT_STOPPED)
+        }
         Err(e) => {
             if root {
                 eprintln!("error: {e}");
@@ -386,18 +419,13 @@ fn main() -> ExitCode {
                 }
             };
             let output = output.unwrap_or_else(|| default_output(&case));
-            // SIGTERM/SIGINT (what Slurm and a user send): finish the step, checkpoint, stop
-            // with EXIT_STOPPED; a second one stops at once (exit 130).
-            let stop = Arc::new(AtomicBool::new(false));
-            for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
-                let registered =
-                    signal_hook::flag::register_conditional_shutdown(sig, 130, Arc::clone(&stop))
-                        .and_then(|_| signal_hook::flag::register(sig, Arc::clone(&stop)));
-                if let Err(e) = registered {
-                    eprintln!("error: cannot handle signal {sig}: {e}");
+            let stop = match stop_on_signals() {
+                Ok(stop) => stop,
+                Err(e) => {
+                    eprintln!("error: {e}");
                     return ExitCode::from(1);
                 }
-            }
+            };
             let opts = RunOptions {
                 output,
                 overwrite,

@@ -8,7 +8,10 @@
 //! Every rank takes part in every run; rank 0 reads the files, draws the figures and
 //! judges. Runs go to `OUT/<check>/<case>.h5`; with `--reuse`, a finished file whose case
 //! has every key the same as the one this check would run (the title and comments may
-//! differ) is judged again instead of rerun.
+//! differ) is judged again instead of rerun, and an unfinished one (`<case>.h5.partial`)
+//! continues from its checkpoint `<case>.ckpt.h5` when that holds the same case. A run
+//! stopped by a signal checkpoints, as `tumbler run` does, so a check of hours survives a
+//! batch system's time limit.
 
 pub mod analytic;
 pub mod checks;
@@ -17,10 +20,14 @@ pub mod measure;
 use crate::case::{apply_overrides, parse_case, Case, LoadedCase};
 use crate::comm::Comm;
 use crate::inspect::{attr_string, InspectError, RunReader};
+use crate::output::checkpoint::checkpoint_path;
+use crate::output::partial_path;
 use crate::run::{run, RunEnd, RunOptions};
 use checks::{Check, CHECKS};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// Exit code of `tumbler validate` when a check fails.
 pub const EXIT_CHECK_FAILED: u8 = 4;
@@ -164,8 +171,29 @@ pub struct ValidateOptions {
     pub only: Vec<String>,
     /// The output folder.
     pub out: PathBuf,
-    /// Judge finished files again instead of rerunning them.
+    /// Judge finished files again instead of rerunning them, and continue unfinished ones
+    /// from their checkpoints.
     pub reuse: bool,
+    /// Set (by a signal handler) to make the current run checkpoint and stop.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// How `tumbler validate` ended.
+#[derive(Debug, Clone)]
+pub enum ValidateEnd {
+    /// Every selected check was run and judged: the report (on rank 0; empty elsewhere) and
+    /// whether every check passed.
+    Judged {
+        /// The Markdown report, also written to `OUT/report.md`.
+        report: String,
+        /// Whether every judged finding passed.
+        passed: bool,
+    },
+    /// A signal stopped a run after it wrote `checkpoint`; `--reuse` continues it.
+    Stopped {
+        /// The checkpoint written.
+        checkpoint: PathBuf,
+    },
 }
 
 /// The checks `opts` selects, or the unknown names.
@@ -211,7 +239,7 @@ pub fn list() -> String {
 
 /// Run and judge the checks `opts` selects. Returns, on rank 0, the report (also written to
 /// `OUT/report.md`) and whether every check passed; on other ranks an empty report.
-pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<(String, bool), String> {
+pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<ValidateEnd, String> {
     let checks = select(opts)?;
     let root = comm.rank() == 0;
     let mut report = String::new();
@@ -229,21 +257,32 @@ pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<(String, bool
                 std::fs::create_dir_all(&dir)
                     .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
             }
-            let reuse = root && opts.reuse && finished_with(&file, &lc.case);
-            if comm.sum_u64(reuse as u64) == 0 {
-                let opts = RunOptions {
-                    output: file.clone(),
-                    overwrite: true,
-                    restart: None,
-                    allow_different_case: false,
-                    stop: None,
-                };
-                match run(&lc, comm, &opts)? {
-                    RunEnd::Finished(_) => {}
-                    RunEnd::Stopped { .. } => return Err("stopped".into()),
+            // rank 0 looks at the files; every rank follows its decision
+            let found = if root && opts.reuse {
+                Found::of(&file, &lc.case)
+            } else {
+                Found::Nothing
+            };
+            let found = Found::decode(comm.sum_u64(found as u64));
+            if found == Found::Finished {
+                if root {
+                    log::info!("{}: reusing {}", check.name, file.display());
                 }
-            } else if root {
-                log::info!("{}: reusing {}", check.name, file.display());
+            } else {
+                let restart = (found == Found::Checkpoint).then(|| checkpoint_path(&file));
+                if let (true, Some(ck)) = (root, &restart) {
+                    log::info!("{}: continuing from {}", check.name, ck.display());
+                }
+                let run_opts = RunOptions {
+                    output: file.clone(),
+                    overwrite: restart.is_none(),
+                    restart,
+                    allow_different_case: false,
+                    stop: opts.stop.clone(),
+                };
+                if let RunEnd::Stopped { checkpoint, .. } = run(&lc, comm, &run_opts)? {
+                    return Ok(ValidateEnd::Stopped { checkpoint });
+                }
             }
             files.push(file);
         }
@@ -280,7 +319,10 @@ pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<(String, bool
             .and_then(|_| std::fs::write(&path, &report))
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
-    Ok((report, all_passed))
+    Ok(ValidateEnd::Judged {
+        report,
+        passed: all_passed,
+    })
 }
 
 fn judge(
@@ -301,9 +343,43 @@ fn judge(
     })
 }
 
-/// Whether `file` is a finished run of `case`: its stored case has every key the same but
-/// the title, so editing a case file's comments does not throw a long run away.
-fn finished_with(file: &Path, case: &Case) -> bool {
+/// What `--reuse` finds of a check's run in its folder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    /// Nothing usable: the run is made from the start.
+    Nothing = 0,
+    /// A finished run of the case: judged again.
+    Finished = 1,
+    /// An unfinished run of the case and its checkpoint: continued.
+    Checkpoint = 2,
+}
+
+impl Found {
+    /// What there is of a run of `case` written to `file`.
+    fn of(file: &Path, case: &Case) -> Found {
+        if holds_run_of(file, case) {
+            Found::Finished
+        } else if partial_path(file).exists() && holds_run_of(&checkpoint_path(file), case) {
+            Found::Checkpoint
+        } else {
+            Found::Nothing
+        }
+    }
+
+    /// The value rank 0 sent (every other rank adds 0).
+    fn decode(v: u64) -> Found {
+        match v {
+            1 => Found::Finished,
+            2 => Found::Checkpoint,
+            _ => Found::Nothing,
+        }
+    }
+}
+
+/// Whether the HDF5 file `file` (a run's output or its checkpoint) holds a run of `case`:
+/// its stored case has every key the same but the title, so editing a case file's comments
+/// does not throw a long run away.
+fn holds_run_of(file: &Path, case: &Case) -> bool {
     hdf5::File::open(file)
         .ok()
         .and_then(|f| attr_string(&f, "case"))
@@ -404,6 +480,50 @@ mod tests {
         }
     }
 
+    /// An HDF5 file at `path` whose `case` attribute is `text`, as a run's output and its
+    /// checkpoint store it.
+    fn file_with_case(path: &Path, text: &str) {
+        use hdf5::types::VarLenUnicode;
+        use std::str::FromStr;
+        let f = hdf5::File::create(path).unwrap();
+        f.new_attr::<VarLenUnicode>()
+            .create("case")
+            .unwrap()
+            .write_scalar(&VarLenUnicode::from_str(text).unwrap())
+            .unwrap();
+    }
+
+    #[test]
+    fn reuse_judges_finished_runs_and_continues_checkpointed_ones_of_the_same_case() {
+        let dir = tempfile::tempdir().unwrap();
+        let spec = RunSpec::new("rapaport2002-W", &["drum.length=32", "run.rotations=100"]);
+        let lc = spec.load().unwrap();
+        let other = RunSpec::new("rapaport2002-W", &["drum.length=32", "run.rotations=50"])
+            .load()
+            .unwrap();
+        // nothing yet
+        let file = dir.path().join("W.h5");
+        assert_eq!(Found::of(&file, &lc.case), Found::Nothing);
+        // a checkpoint without the unfinished output is not continued (the output is gone)
+        file_with_case(&checkpoint_path(&file), &lc.text);
+        assert_eq!(Found::of(&file, &lc.case), Found::Nothing);
+        // with it, it is; but not a checkpoint of a run of other keys
+        file_with_case(&partial_path(&file), &lc.text);
+        assert_eq!(Found::of(&file, &lc.case), Found::Checkpoint);
+        assert_eq!(Found::of(&file, &other.case), Found::Nothing);
+        // a finished output of the same keys, under another title and comments, is judged
+        let retitled = lc
+            .text
+            .replacen("title = ", "# edited\ntitle = \"x\"\n# was ", 1);
+        file_with_case(&file, &retitled);
+        assert_eq!(Found::of(&file, &lc.case), Found::Finished);
+        assert_eq!(Found::of(&file, &other.case), Found::Nothing);
+        // what rank 0 decides reaches every rank through a sum
+        for f in [Found::Nothing, Found::Finished, Found::Checkpoint] {
+            assert_eq!(Found::decode(f as u64), f);
+        }
+    }
+
     #[test]
     fn unknown_names_are_refused_with_the_list() {
         let opts = ValidateOptions {
@@ -411,6 +531,7 @@ mod tests {
             only: vec!["rolling".into(), "nope".into()],
             out: PathBuf::from("x"),
             reuse: false,
+            stop: None,
         };
         let e = select(&opts).err().unwrap();
         assert!(e.contains("`nope`") && e.contains("rapaport-capped"), "{e}");
