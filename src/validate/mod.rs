@@ -238,7 +238,8 @@ pub fn list() -> String {
 }
 
 /// Run and judge the checks `opts` selects. Returns, on rank 0, the report (also written to
-/// `OUT/report.md`) and whether every check passed; on other ranks an empty report.
+/// `OUT/report.md`) and whether every check passed, on other ranks an empty report; or, when
+/// the stop flag was set, the checkpoint the interrupted run wrote (on every rank).
 pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<ValidateEnd, String> {
     let checks = select(opts)?;
     let root = comm.rank() == 0;
