@@ -91,7 +91,7 @@ enum Command {
     /// Run reduced versions of the seed studies and check their results (under
     /// `mpirun -np N`; docs/validation.md). Exit code 4 if a check fails.
     Validate {
-        /// `ci`: the few-minute subset CI runs; `full`: every check (about 18-22 hours on two
+        /// `ci`: the few-minute subset CI runs; `full`: every check (about 18-26 hours on two
         /// cores, most of them the full-size sphere at 60 % fill).
         #[arg(long, value_enum, default_value_t = TierArg::Full)]
         tier: TierArg,
