@@ -740,7 +740,7 @@ fn judge_periodic_speed(runs: &Runs) -> Result<Verdict, InspectError> {
 }
 
 /// 20 % full: a 0.06 m sphere for 20 rotations (SLS shows within 5-10). 60 % full: the
-/// thesis' own 0.14 m sphere for 30 rotations (73,000 particles, 15 to 25 hours on two cores,
+/// thesis' own 0.14 m sphere for 30 rotations (73,000 particles, 10 to 25 hours on two cores,
 /// checkpointed every rotation so that `--reuse` continues it after a stop). The pattern at
 /// high fill depends on the tumbler's size against the beads' (sec. 5.2: the same 2:1 ratio
 /// changes pattern at 20-30 % fill with 1 + 2 mm beads and at 50-60 % with 2 + 4 mm ones), and
