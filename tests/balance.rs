@@ -1,6 +1,7 @@
 //! Load balance: a capped drum started segregated in halves (eight times more particles per
-//! length in one half) is evened out by moving the slab boundary, and the run stays the
-//! same bits on 1, 2 and 3 ranks while the boundaries move.
+//! length in one half) is evened out by moving the slab boundaries, and the run stays the
+//! same bits on 1, 2, 3, 4, 6 and 8 ranks while the boundaries move (on four or more ranks a
+//! boundary moves past a neighbour's whole slab, and particles go to any rank).
 
 mod common;
 
@@ -38,11 +39,13 @@ fn read(path: &Path, name: &str) -> Vec<f64> {
 #[test]
 fn segregated_halves_are_balanced_and_stay_bit_identical() {
     let dir = tmpdir();
-    let outs: Vec<_> = (1..=3)
+    let ranks = [1, 2, 3, 4, 6, 8];
+    let outs: Vec<_> = ranks
+        .iter()
         .map(|r| dir.path().join(format!("halves{r}.h5")))
         .collect();
-    for (r, out) in outs.iter().enumerate() {
-        run(r + 1, out);
+    for (&r, out) in ranks.iter().zip(&outs) {
+        run(r, out);
     }
     // two ranks: equal slabs are far out of balance, moved ones are within 10 %
     let before = read(&outs[1], "balance/imbalance_before");
@@ -54,7 +57,14 @@ fn segregated_halves_are_balanced_and_stay_bit_identical() {
     );
     let bounds = read(&outs[1], "balance/bounds");
     assert!(bounds[1] != 0.0, "the boundary never moved: {bounds:?}");
-    for r in [1, 2] {
+    // four ranks: the first cut moves boundaries past whole slabs; balanced within 10 % by
+    // the last check
+    let after4 = read(&outs[3], "balance/imbalance_after");
+    assert!(
+        *after4.last().unwrap() <= 1.10,
+        "4 ranks: imbalance after balancing {after4:?}"
+    );
+    for r in 1..ranks.len() {
         for ds in [
             "particles/position",
             "particles/velocity",
@@ -66,8 +76,8 @@ fn segregated_halves_are_balanced_and_stay_bit_identical() {
                 .zip(&b)
                 .filter(|(x, y)| x.to_bits() != y.to_bits())
                 .count();
-            assert_eq!(differ, 0, "{ds} differs on {} ranks vs 1", r + 1);
+            assert_eq!(differ, 0, "{ds} differs on {} ranks vs 1", ranks[r]);
         }
-        common::assert_same_diagnostics(&outs[0], &outs[r], &format!("{} ranks vs 1", r + 1));
+        common::assert_same_diagnostics(&outs[0], &outs[r], &format!("{} ranks vs 1", ranks[r]));
     }
 }

@@ -65,6 +65,10 @@ fn run_on(ranks: usize, case: &str, dir: &Path, extra: &[&str]) -> Snapshot {
 }
 
 fn assert_identical(case: &str) -> Vec<Snapshot> {
+    assert_identical_on(case, &[2, 3])
+}
+
+fn assert_identical_on(case: &str, rank_counts: &[usize]) -> Vec<Snapshot> {
     let dir = tmpdir();
     let one = run_on(1, case, dir.path(), &[]);
     let n = one.id.len();
@@ -75,7 +79,7 @@ fn assert_identical(case: &str) -> Vec<Snapshot> {
         "ids sorted, each once"
     );
     let mut others = Vec::new();
-    for ranks in [2, 3] {
+    for &ranks in rank_counts {
         let other = run_on(ranks, case, dir.path(), &[]);
         assert_eq!(other.ranks, ranks as u64);
         assert!(
@@ -123,13 +127,13 @@ fn assert_identical(case: &str) -> Vec<Snapshot> {
 }
 
 #[test]
-fn periodic_drum_is_bit_identical_on_1_2_3_ranks() {
-    assert_identical("periodic.toml");
+fn periodic_drum_is_bit_identical_on_1_2_3_4_6_8_ranks() {
+    assert_identical_on("periodic.toml", &[2, 3, 4, 6, 8]);
 }
 
 #[test]
-fn capped_drum_is_bit_identical_on_1_2_3_ranks() {
-    assert_identical("capped.toml");
+fn capped_drum_is_bit_identical_on_1_2_3_4_6_8_ranks() {
+    assert_identical_on("capped.toml", &[2, 3, 4, 6, 8]);
 }
 
 #[test]

@@ -39,6 +39,13 @@ pub trait Comm {
         work: &mut dyn FnMut(),
     );
 
+    /// The irregular exchange: send `to[r]` to rank `r` for every rank (most of them empty)
+    /// and return what every rank sent to this one, in rank order (`to.len()` must be the
+    /// number of ranks). Counts travel as 64-bit numbers and long messages in pieces, so a
+    /// message may hold any number of words. Used where particles go to whichever rank owns
+    /// them (after a rebalance); the per-step path is [`Comm::exchange`].
+    fn all_to_all(&self, to: &[Vec<f64>]) -> Vec<Vec<f64>>;
+
     /// Maximum of `x` over all ranks.
     fn max_f64(&self, x: f64) -> f64;
     /// Element-wise maximum of `v` over all ranks, on every rank.

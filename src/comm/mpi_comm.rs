@@ -8,6 +8,10 @@ use mpi::traits::*;
 
 const TAG_UP: i32 = 11;
 const TAG_DOWN: i32 = 12;
+const TAG_ANY: i32 = 13;
+
+/// Longest piece of an irregular message, in words (MPI counts are 32-bit).
+const PIECE_WORDS: usize = 1 << 26;
 
 /// A communicator over `MPI_COMM_WORLD`.
 pub struct MpiComm {
@@ -114,6 +118,44 @@ impl Comm for MpiComm {
                 r.wait();
             }
         })
+    }
+
+    fn all_to_all(&self, to: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let n = self.size();
+        assert_eq!(to.len(), n, "one message per rank");
+        let counts: Vec<u64> = to.iter().map(|m| m.len() as u64).collect();
+        let mut incoming = vec![0u64; n];
+        self.world.all_to_all_into(&counts[..], &mut incoming[..]);
+        let me = self.rank();
+        let mut from: Vec<Vec<f64>> = incoming.iter().map(|&c| vec![0.0; c as usize]).collect();
+        from[me].copy_from_slice(&to[me]);
+        mpi::request::scope(|scope| {
+            let at = |r: usize| self.world.process_at_rank(r as i32);
+            // pieces between one pair of ranks arrive in the order they were sent
+            let mut receives = Vec::new();
+            for (r, buf) in from.iter_mut().enumerate() {
+                if r != me {
+                    for piece in buf.chunks_mut(PIECE_WORDS) {
+                        receives.push(at(r).immediate_receive_into_with_tag(scope, piece, TAG_ANY));
+                    }
+                }
+            }
+            let mut sends = Vec::new();
+            for (r, msg) in to.iter().enumerate() {
+                if r != me {
+                    for piece in msg.chunks(PIECE_WORDS) {
+                        sends.push(at(r).immediate_send_with_tag(scope, piece, TAG_ANY));
+                    }
+                }
+            }
+            for r in receives {
+                r.wait();
+            }
+            for s in sends {
+                s.wait();
+            }
+        });
+        from
     }
 
     fn max_f64(&self, x: f64) -> f64 {

@@ -30,38 +30,77 @@ pub fn work_per_slab(hist: &[u64], z0: f64, length: f64, bounds: &[f64]) -> Vec<
 }
 
 /// Boundaries (`ranks + 1`, from `z0` to `z0 + length`) that split the histogram `hist` into
-/// `ranks` equal shares, each slab at least `min_width` long; cuts fall on bin edges.
+/// `ranks` slabs with the smallest possible largest share, each slab longer than `min_width`
+/// (the halo width: a ghost must come from a neighbouring slab); cuts fall on bin edges.
+///
+/// The smallest feasible largest share is found by bisection; for a given share the cuts
+/// are placed greedily from `z0`, each slab taking as many bins as the share allows while
+/// leaving room for the slabs after it. `None` if the slabs cannot all be longer than
+/// `min_width` with cuts on bin edges.
 pub fn balanced_bounds(
     hist: &[u64],
     z0: f64,
     length: f64,
     ranks: usize,
     min_width: f64,
-) -> Vec<f64> {
+) -> Option<Vec<f64>> {
     let nb = hist.len();
     let bw = length / nb as f64;
-    let total: u64 = hist.iter().sum();
-    let mut bounds = vec![z0; ranks + 1];
-    bounds[ranks] = z0 + length;
-    let mut cum = 0u64;
-    let mut k = 0usize;
-    for r in 1..ranks {
-        // the first bin edge where the cumulative work reaches r/ranks of the total
-        let target = (total as u128 * r as u128 / ranks as u128) as u64;
-        while k < nb && cum + hist[k] <= target {
-            cum += hist[k];
-            k += 1;
-        }
-        // take the nearer of the edges around the target
-        if k < nb && target - cum > cum + hist[k] - target {
-            cum += hist[k];
-            k += 1;
-        }
-        let lo = bounds[r - 1] + min_width;
-        let hi = z0 + length - (ranks - r) as f64 * min_width;
-        bounds[r] = (z0 + k as f64 * bw).clamp(lo, hi.max(lo));
+    // strictly more than `min_width` bins' worth, so rounding can never make a slab thinner
+    let min_bins = (min_width / bw).floor() as usize + 1;
+    let to_bounds = |cuts: &[usize]| -> Vec<f64> {
+        cuts.iter()
+            .map(|&k| {
+                if k == nb {
+                    z0 + length
+                } else {
+                    z0 + k as f64 * bw
+                }
+            })
+            .collect()
+    };
+    if ranks == 1 {
+        return Some(vec![z0, z0 + length]);
     }
-    bounds
+    if min_bins * ranks > nb {
+        return None;
+    }
+    let mut cum = vec![0u64; nb + 1];
+    for (k, &h) in hist.iter().enumerate() {
+        cum[k + 1] = cum[k] + h;
+    }
+    let total = cum[nb];
+    let cuts_for = |share: u64| -> Option<Vec<usize>> {
+        let mut cuts = vec![0usize; ranks + 1];
+        cuts[ranks] = nb;
+        for r in 1..ranks {
+            let start = cuts[r - 1];
+            let (lo, hi) = (start + min_bins, nb - (ranks - r) * min_bins);
+            if lo > hi || cum[lo] - cum[start] > share {
+                return None;
+            }
+            // the last edge in [lo, hi] up to which the slab holds at most `share`
+            let fits = cum[lo..=hi].partition_point(|&c| c - cum[start] <= share);
+            cuts[r] = lo + fits - 1;
+        }
+        (total - cum[cuts[ranks - 1]] <= share).then_some(cuts)
+    };
+    let (mut lo, mut hi) = (total.div_ceil(ranks as u64), total);
+    let mut best = cuts_for(hi)?;
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        match cuts_for(mid) {
+            Some(c) => {
+                best = c;
+                hi = mid;
+            }
+            None => lo = mid + 1,
+        }
+    }
+    if let Some(c) = cuts_for(hi) {
+        best = c;
+    }
+    Some(to_bounds(&best))
 }
 
 #[cfg(test)]
@@ -71,7 +110,7 @@ mod tests {
     #[test]
     fn uniform_work_gives_equal_slabs() {
         let h = vec![10u64; 100];
-        let b = balanced_bounds(&h, -50.0, 100.0, 4, 1.0);
+        let b = balanced_bounds(&h, -50.0, 100.0, 4, 1.0).unwrap();
         assert_eq!(b, vec![-50.0, -25.0, 0.0, 25.0, 50.0]);
         assert_eq!(imbalance(&work_per_slab(&h, -50.0, 100.0, &b)), 1.0);
     }
@@ -82,7 +121,7 @@ mod tests {
         let h: Vec<u64> = (0..200).map(|k| if k < 100 { 80 } else { 10 }).collect();
         let uniform = [-1.0, 0.0, 1.0];
         assert!(imbalance(&work_per_slab(&h, -1.0, 2.0, &uniform)) > 1.7);
-        let b = balanced_bounds(&h, -1.0, 2.0, 2, 0.1);
+        let b = balanced_bounds(&h, -1.0, 2.0, 2, 0.1).unwrap();
         let i = imbalance(&work_per_slab(&h, -1.0, 2.0, &b));
         assert!(i < 1.01, "{i}");
         assert!(b[1] < -0.3);
@@ -92,9 +131,41 @@ mod tests {
     fn slabs_keep_their_minimum_width() {
         let mut h = vec![0u64; 100];
         h[0] = 1000; // all the work at one end
-        let b = balanced_bounds(&h, 0.0, 10.0, 3, 2.0);
+        let b = balanced_bounds(&h, 0.0, 10.0, 3, 2.0).unwrap();
         for w in b.windows(2) {
-            assert!(w[1] - w[0] >= 2.0 - 1e-12, "{b:?}");
+            assert!(w[1] - w[0] > 2.0, "{b:?}");
         }
+    }
+
+    #[test]
+    fn the_largest_share_is_the_smallest_possible() {
+        // a dense band in the middle of a long drum, eight slabs: every slab within one bin
+        // of its share, none thinner than the minimum
+        let h: Vec<u64> = (0..4000)
+            .map(|k| {
+                if (1500..2500).contains(&k) {
+                    90
+                } else {
+                    3 + (k % 7) as u64
+                }
+            })
+            .collect();
+        for ranks in [2, 3, 4, 6, 8] {
+            let b = balanced_bounds(&h, -20.0, 40.0, ranks, 0.5).unwrap();
+            assert_eq!(b.len(), ranks + 1);
+            assert_eq!((b[0], b[ranks]), (-20.0, 20.0));
+            for w in b.windows(2) {
+                assert!(w[1] - w[0] > 0.5, "{ranks} ranks: {b:?}");
+            }
+            let i = imbalance(&work_per_slab(&h, -20.0, 40.0, &b));
+            assert!(i < 1.01, "{ranks} ranks: imbalance {i}");
+        }
+    }
+
+    #[test]
+    fn too_many_slabs_for_the_minimum_width_are_refused() {
+        let h = vec![5u64; 10];
+        assert_eq!(balanced_bounds(&h, 0.0, 10.0, 4, 3.0), None);
+        assert!(balanced_bounds(&h, 0.0, 10.0, 2, 3.0).is_some());
     }
 }

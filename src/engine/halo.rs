@@ -1,5 +1,6 @@
 //! Migration of particles between slabs and the ghost halo, as one mechanism over the
-//! [`Comm`] exchange with the two axial neighbours.
+//! [`Comm`] exchange with the two axial neighbours (and, after the slab boundaries moved,
+//! the irregular exchange that takes a particle to any rank).
 //!
 //! Ghosts keep their owner's (wrapped) coordinates bit for bit; a ghost that is a periodic
 //! image carries its axial offset in `z_image`, used only for binning. Pair forces use the
@@ -27,15 +28,27 @@ const HISTORY_WORDS: usize = 5;
 /// What a migration moved.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Migrated {
-    /// Particles sent to neighbours.
+    /// Particles sent to other ranks.
     pub particles: usize,
     /// Contact histories sent with them.
     pub histories: usize,
+    /// Whether the irregular exchange was needed: some particle, on some rank, was owned by a
+    /// rank that is not a neighbour of the one holding it.
+    pub irregular: bool,
+    /// The first particle of this rank that went to a rank other than a neighbour: its id, `z`
+    /// and new owner.
+    pub far: Option<(u64, f64, usize)>,
 }
 
-/// Send every owned particle that left this rank's slab to the neighbour that now owns it,
-/// with the histories of its contacts (`saved`, which receives the neighbours' in turn and
-/// stays sorted). Ghosts must have been cleared.
+/// Send every owned particle that left this rank's slab to the rank that now owns it, with
+/// the histories of its contacts (`saved`, which receives the other ranks' in turn and stays
+/// sorted). Ghosts must have been cleared.
+///
+/// In a step a particle can only have crossed into a neighbour's slab (slabs are at least the
+/// halo width thick and a list is rebuilt before anything moves half the skin), and the
+/// exchange is the two-neighbour one. After the boundaries moved (a rebalance), or when a
+/// particle really moved past a whole slab, the ranks agree on it (one flag reduced over all
+/// of them) and every particle goes straight to its owner in one irregular exchange.
 pub fn migrate(
     p: &mut Particles,
     slabs: &Slabs,
@@ -46,62 +59,79 @@ pub fn migrate(
     debug_assert_eq!(p.n_owned, p.len());
     let me = comm.rank();
     let (down, up) = (slabs.down(me), slabs.up(me));
-    let mut leave = vec![false; p.n_owned];
-    let (mut to_down, mut to_up) = (Vec::new(), Vec::new());
-    for (i, flag) in leave.iter_mut().enumerate() {
-        let owner = slabs.owner(p.x[i][2]);
-        if owner == me {
-            continue;
-        }
-        *flag = true;
-        if Some(owner) == up {
-            p.pack(i, &mut to_up);
-        } else if Some(owner) == down {
-            p.pack(i, &mut to_down);
-        } else {
-            panic!(
-                "particle {} at z = {} moved past a whole slab in one neighbour-list interval: \
-                 the run has blown up (time step too large for the stiffness, or particles \
-                 started too fast)",
-                p.id[i], p.x[i][2]
-            );
-        }
-    }
+    let owners: Vec<usize> = (0..p.n_owned).map(|i| slabs.owner(p.x[i][2])).collect();
+    let far = owners
+        .iter()
+        .enumerate()
+        .find(|&(_, &o)| o != me && Some(o) != up && Some(o) != down)
+        .map(|(i, &o)| (p.id[i], p.x[i][2], o));
+    // with two slabs, or three around periodic ends, every rank neighbours every other
+    let all_neighbours = slabs.size() <= 2 || (slabs.size() == 3 && slabs.periodic);
+    let irregular = !all_neighbours && !comm.all_ok(far.is_none());
+    let leave: Vec<bool> = owners.iter().map(|&o| o != me).collect();
     let sent = leave.iter().filter(|&&l| l).count();
-    if down.is_none() && up.is_none() {
+    if down.is_none() && up.is_none() && !irregular {
         assert_eq!(sent, 0, "a particle left the only slab");
         return Migrated::default();
     }
-    // Each message: particle count, particles, then the histories of their contacts.
-    let mut out_down = vec![(to_down.len() / PACKED_WORDS) as f64];
-    out_down.extend_from_slice(&to_down);
-    let mut out_up = vec![(to_up.len() / PACKED_WORDS) as f64];
-    out_up.extend_from_slice(&to_up);
+    // One message per destination: particle count, particles, then the histories of their
+    // contacts. The neighbour exchange uses slots `down` and `up` only.
+    let dest_slot = |o: usize| -> usize {
+        if irregular {
+            o
+        } else if Some(o) == up {
+            1
+        } else {
+            0
+        }
+    };
+    let n_slots = if irregular { slabs.size() } else { 2 };
+    let mut parts: Vec<Vec<f64>> = vec![Vec::new(); n_slots];
+    let mut leaving: Vec<(u64, usize)> = Vec::with_capacity(sent);
+    for (i, &o) in owners.iter().enumerate() {
+        if o != me {
+            let slot = dest_slot(o);
+            p.pack(i, &mut parts[slot]);
+            leaving.push((p.id[i], slot));
+        }
+    }
+    let mut out: Vec<Vec<f64>> = parts
+        .iter()
+        .map(|m| {
+            let mut v = Vec::with_capacity(m.len() + 1);
+            v.push((m.len() / PACKED_WORDS) as f64);
+            v.extend_from_slice(m);
+            v
+        })
+        .collect();
+    drop(parts);
     let mut histories = 0;
     if !saved.is_empty() && sent > 0 {
-        let ids = |buf: &[f64]| -> Vec<u64> {
-            let mut v: Vec<u64> = buf
-                .chunks_exact(PACKED_WORDS)
-                .map(|r| r[0] as u64)
-                .collect();
-            v.sort_unstable();
-            v
+        leaving.sort_unstable();
+        let slot_of = |id: u64| {
+            leaving
+                .binary_search_by_key(&id, |x| x.0)
+                .ok()
+                .map(|k| leaving[k].1)
         };
-        let (ids_down, ids_up) = (ids(&to_down), ids(&to_up));
-        let has = |v: &[u64], id: u64| v.binary_search(&id).is_ok();
         for &(a, b, h) in saved.iter() {
-            for (ids, out) in [(&ids_down, &mut out_down), (&ids_up, &mut out_up)] {
-                if has(ids, a) || has(ids, b) {
-                    out.extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
-                    histories += 1;
-                }
+            let (sa, sb) = (slot_of(a), slot_of(b));
+            for slot in [sa, sb.filter(|&s| Some(s) != sa)].into_iter().flatten() {
+                out[slot].extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+                histories += 1;
             }
         }
     }
     p.remove_owned(&leave);
-    let (from_down, from_up) = comm.exchange(down, &out_down, up, &out_up);
+    let received: Vec<Vec<f64>> = if irregular {
+        comm.all_to_all(&out)
+    } else {
+        let (from_down, from_up) = comm.exchange(down, &out[0], up, &out[1]);
+        vec![from_down, from_up]
+    };
+    drop(out);
     let mut received_history = false;
-    for msg in [&from_down, &from_up] {
+    for msg in &received {
         if msg.is_empty() {
             continue;
         }
@@ -123,6 +153,8 @@ pub fn migrate(
     Migrated {
         particles: sent,
         histories,
+        irregular,
+        far,
     }
 }
 

@@ -14,6 +14,11 @@ use crate::physics::rough_wall::{is_fixed, RoughWall};
 use crate::physics::{law, ContactLaw, DrumWalls, Materials};
 use std::time::Instant;
 
+/// Bins of the load-balance histogram per interaction range + skin: fine enough that a cut
+/// on a bin edge leaves a slab within a few per cent of its share on a bed of a few hundred
+/// particles per rank.
+const BALANCE_BINS_PER_REACH: f64 = 32.0;
+
 /// Why a decomposition cannot be used.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecompositionError(pub String);
@@ -64,6 +69,11 @@ pub struct Sim<'c> {
     pub migrated: u64,
     /// Contact histories this rank sent along with migrating particles so far.
     pub histories_migrated: u64,
+    /// Rebuilds that needed the irregular exchange (particles to any rank) so far.
+    pub irregular_migrations: u64,
+    /// What went wrong in a step that cannot go on (a particle that moved past a whole slab
+    /// between two list builds, a non-finite position): reported by [`Sim::health`].
+    fault: Option<String>,
 }
 
 impl<'c> Sim<'c> {
@@ -75,7 +85,7 @@ impl<'c> Sim<'c> {
         initial: &[ParticleState],
     ) -> Result<Self, DecompositionError> {
         let mut sim = Self::assemble(case, comm, initial)?;
-        sim.rebuild();
+        sim.rebuild_with(Vec::new(), true);
         sim.forces_advancing(true);
         Ok(sim)
     }
@@ -93,7 +103,7 @@ impl<'c> Sim<'c> {
         let mut sim = Self::assemble(case, comm, particles)?;
         sim.step = step;
         sim.turn_rough_wall(sim.walls.omega * step as f64 * sim.dt);
-        sim.rebuild_with(histories);
+        sim.rebuild_with(histories, true);
         Ok(sim)
     }
 
@@ -163,6 +173,8 @@ impl<'c> Sim<'c> {
             rebuilds: 0,
             migrated: 0,
             histories_migrated: 0,
+            irregular_migrations: 0,
+            fault: None,
         };
         Ok(sim)
     }
@@ -204,20 +216,29 @@ impl<'c> Sim<'c> {
                 .max_f64(if m.is_nan() { f64::INFINITY } else { m })
         });
         if moved.is_infinite() {
-            let here = (0..self.p.n_owned)
-                .find(|&i| self.p.x[i].iter().any(|c| !c.is_finite()))
-                .map(|i| {
-                    format!(
-                        " (here: particle {}, species {})",
-                        self.p.id[i], self.p.species[i]
-                    )
-                })
-                .unwrap_or_default();
-            panic!(
-                "a particle position became infinite or NaN at step {}{here}: the time step is too \
-                 large for the contact stiffness or damping (see `tumbler check`)",
-                self.step
-            );
+            // Stop at the next health check (every rank knows: the maximum is global); until
+            // then nothing is rebuilt from the bad coordinates.
+            if self.fault.is_none() {
+                let here = (0..self.p.n_owned)
+                    .find(|&i| self.p.x[i].iter().any(|c| !c.is_finite()))
+                    .map(|i| {
+                        format!(
+                            " (particle {}, species {})",
+                            self.p.id[i], self.p.species[i]
+                        )
+                    })
+                    .unwrap_or_else(|| " (on another rank)".into());
+                self.fault = Some(format!(
+                    "run stopped: a particle position became infinite or NaN at step {}{here}; the \
+                     time step is too large for the contact stiffness or damping (see `tumbler check`)",
+                    self.step
+                ));
+            }
+            self.update_ghosts_during_wall_forces(true);
+            self.pair_forces(true);
+            self.half_kick();
+            self.step += 1;
+            return;
         }
         // A hair below half the skin, so that pairs listed at exactly the list range on one
         // rank and not on another (last-bit differences of periodic images) never touch.
@@ -293,7 +314,7 @@ impl<'c> Sim<'c> {
     /// Migrate particles that left the slab, rebuild the halo and the pair list.
     fn rebuild(&mut self) {
         let saved = self.saved_histories();
-        self.rebuild_with(saved);
+        self.rebuild_with(saved, false);
     }
 
     fn saved_histories(&self) -> SavedHistory {
@@ -304,7 +325,11 @@ impl<'c> Sim<'c> {
         }
     }
 
-    fn rebuild_with(&mut self, mut saved: SavedHistory) {
+    /// Migrate, rebuild the halo and the pair list, giving the pairs the histories of
+    /// `saved`. `bounds_moved`: the slab boundaries changed since the last build (or there was
+    /// none), so particles may go to any rank; otherwise one that does has moved past a whole
+    /// slab since the last build, and the run is stopped at the next health check.
+    fn rebuild_with(&mut self, mut saved: SavedHistory, bounds_moved: bool) {
         let history = self.law.has_history();
         let (p, slabs, comm, mat, reach) =
             (&mut self.p, &self.slabs, self.comm, &self.mat, self.reach);
@@ -315,6 +340,20 @@ impl<'c> Sim<'c> {
         });
         self.migrated += moved.particles as u64;
         self.histories_migrated += moved.histories as u64;
+        self.irregular_migrations += moved.irregular as u64;
+        if let (Some((id, z, owner)), false, None) = (moved.far, bounds_moved, &self.fault) {
+            self.fault = Some(format!(
+                "run stopped at step {}: particle {id} moved past a whole slab between two \
+                 neighbour-list builds (it is at z = {z:.6e}, in the slab of rank {owner}; slabs \
+                 are at least {:.4e} long and lists are rebuilt before anything moves half the \
+                 skin {:.4e}), so contacts were missed: the time step is probably too large for \
+                 the contact stiffness or damping (see `tumbler check`), or the particles were \
+                 started too fast",
+                self.step,
+                self.slabs.min_width(),
+                self.skin
+            ));
+        }
         self.halo = halo;
         // the slab and its halo, inside the drum
         let (z_lo, z_hi) = self.slabs.range(self.comm.rank());
@@ -382,7 +421,7 @@ impl<'c> Sim<'c> {
             .map(|i| !is_fixed(self.p.species[i]) && cut(&self.p.state(i)))
             .collect();
         self.p.remove_owned(&leave);
-        self.rebuild_with(saved);
+        self.rebuild_with(saved, false);
         self.forces_advancing(false);
     }
 
@@ -393,11 +432,11 @@ impl<'c> Sim<'c> {
     }
 
     /// The work histogram along the axis, summed over all ranks: each owned particle counts
-    /// one plus the listed pairs it belongs to, in bins a quarter of the interaction range.
+    /// one plus the listed pairs it belongs to, in bins of 1/32 of the interaction range + skin.
     fn work_histogram(&self) -> (Vec<u64>, f64, f64) {
         let length = self.slabs.length;
         let z0 = -0.5 * length;
-        let nb = ((4.0 * length / self.reach).ceil() as usize).clamp(1, 1 << 20);
+        let nb = ((BALANCE_BINS_PER_REACH * length / self.reach).ceil() as usize).clamp(1, 1 << 22);
         let mut per = vec![1u64; self.p.len()];
         for &(a, b) in &self.nl.pairs {
             per[a as usize] += 1;
@@ -427,11 +466,16 @@ impl<'c> Sim<'c> {
         if before <= tolerance || self.comm.size() == 1 {
             return (before, before);
         }
-        let bounds = balance::balanced_bounds(&hist, z0, length, self.comm.size(), self.reach);
+        let Some(bounds) =
+            balance::balanced_bounds(&hist, z0, length, self.comm.size(), self.reach)
+        else {
+            return (before, before);
+        };
         let after = balance::imbalance(&balance::work_per_slab(&hist, z0, length, &bounds));
         if after < before {
             self.slabs.bounds = bounds;
-            self.rebuild();
+            let saved = self.saved_histories();
+            self.rebuild_with(saved, true);
             (before, after)
         } else {
             (before, before)
@@ -468,6 +512,9 @@ impl<'c> Sim<'c> {
     pub fn health(&self, max_overlap: f64, limit: &str) -> Result<(), String> {
         let cause = "the time step is probably too large for the contact stiffness or damping \
                      (see `tumbler check`), or the particles were started too fast";
+        if let Some(fault) = &self.fault {
+            return Err(fault.clone());
+        }
         let (r, half) = (self.walls.radius, self.walls.half_length);
         for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             let (x, v, w) = (self.p.x[i], self.p.v[i], self.p.w[i]);
