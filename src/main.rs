@@ -42,6 +42,10 @@ enum Command {
         /// Restart even if the checkpoint's drum, model, species or time step differ.
         #[arg(long)]
         allow_different_case: bool,
+        /// With --restart: write the continuation to a new file (-o, which must not exist)
+        /// instead of continuing the output of the run that wrote the checkpoint.
+        #[arg(long, requires = "restart")]
+        new_output: bool,
     },
     /// Validate a case and print its derived quantities.
     Check {
@@ -402,6 +406,7 @@ fn main() -> ExitCode {
             overwrite,
             restart,
             allow_different_case,
+            new_output,
         } => {
             let Some(universe) = mpi::initialize() else {
                 eprintln!("error: MPI could not be initialised");
@@ -431,6 +436,7 @@ fn main() -> ExitCode {
                 overwrite,
                 restart,
                 allow_different_case,
+                new_output,
                 stop: Some(stop),
             };
             match run(&lc, &comm, &opts) {

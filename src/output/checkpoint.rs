@@ -7,15 +7,20 @@
 //! the number of axial samples written, the case text, and the diagnostics' windows in
 //! progress (exact sums, so a restart averages the same bits). It is written as `NAME.tmp`,
 //! flushed to disk and renamed over `NAME`, so the previous checkpoint stays whole until the
-//! new one is. (The run draws no random numbers after the initial state, so there is no
-//! generator state to keep.)
+//! new one is; a failed write (a full disk) removes the temporary file. (The run draws no
+//! random numbers after the initial state, so there is no generator state to keep.)
+//!
+//! Every dataset carries HDF5's Fletcher32 checksum (HDF5 verifies it on every read) and the
+//! file's metadata is written in the 1.10 format, whose object headers are checksummed too,
+//! so a damaged checkpoint is refused on restart instead of loading wrong numbers.
 
 use crate::diag::windows::AngleSums;
 use crate::engine::neighbor::SavedHistory;
 use crate::particles::ParticleState;
 use crate::physics::materials::WALLS;
 use hdf5::types::VarLenUnicode;
-use ndarray::{Array1, Array2};
+use hdf5::H5Type;
+use ndarray::ArrayView2;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -67,14 +72,10 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
         let (samples, angle_sum, sums) = (&s.samples, &s.angle_sum, &s.sums);
         // one half at a time, to keep the checkpoint's memory peak low
         let hi: Vec<i64> = sums.iter().map(|&x| (x >> 64) as i64).collect();
-        g.new_dataset_builder()
-            .with_data(&hi)
-            .create(format!("{name}_hi").as_str())?;
+        put(&g, &format!("{name}_hi"), &hi, 1)?;
         drop(hi);
         let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
-        g.new_dataset_builder()
-            .with_data(&lo)
-            .create(format!("{name}_lo").as_str())?;
+        put(&g, &format!("{name}_lo"), &lo, 1)?;
         g.new_attr::<u64>()
             .create(format!("{name}_samples").as_str())?
             .write_scalar(samples)?;
@@ -83,37 +84,97 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
             .write_scalar(angle_sum)?;
     }
     let a = &d.angles;
-    g.new_dataset_builder()
-        .with_data(&a.slice_sum)
-        .create("angle_slice_sum")?;
-    g.new_dataset_builder()
-        .with_data(&a.slice_n)
-        .create("angle_slice_n")?;
+    put(&g, "angle_slice_sum", &a.slice_sum, 1)?;
+    put(&g, "angle_slice_n", &a.slice_n, 1)?;
     g.new_attr::<f64>()
         .create("angle_drum_sum")?
         .write_scalar(&a.drum_sum)?;
     g.new_attr::<u64>()
         .create("angle_drum_n")?
         .write_scalar(&a.drum_n)?;
-    g.new_dataset_builder()
-        .with_data(&d.path_ids)
-        .create("path_ids")?;
+    put(&g, "path_ids", &d.path_ids, 1)?;
     Ok(())
 }
 
-fn read_diag(f: &hdf5::File) -> hdf5::Result<DiagState> {
-    let g = f.group("diagnostics")?;
-    let sums = |name: &str| -> hdf5::Result<SavedSums> {
-        let hi: Vec<i64> = g.dataset(&format!("{name}_hi"))?.read_raw()?;
-        let lo: Vec<u64> = g.dataset(&format!("{name}_lo"))?.read_raw()?;
+/// Rows per chunk of a checkpoint dataset (a checksum covers one chunk).
+const CHUNK_ROWS: usize = 1 << 16;
+
+/// Write `data` (rows of `cols` values) as dataset `name` of `g`: 1-D when `cols` is 1,
+/// else `rows x cols`; chunked with a Fletcher32 checksum unless empty.
+fn put<T: H5Type>(g: &hdf5::Group, name: &str, data: &[T], cols: usize) -> hdf5::Result<()> {
+    let rows = data.len() / cols.max(1);
+    if rows * cols != data.len() {
+        return Err(hdf5::Error::from(
+            format!("{name}: {} values are not rows of {cols}", data.len()).as_str(),
+        ));
+    }
+    let chunk = rows.clamp(1, CHUNK_ROWS);
+    if cols == 1 {
+        let b = g.new_dataset_builder().with_data(data);
+        if rows > 0 {
+            b.chunk(chunk).fletcher32().create(name)?;
+        } else {
+            b.create(name)?;
+        }
+    } else {
+        let view = ArrayView2::from_shape((rows, cols), data)
+            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        let b = g.new_dataset_builder().with_data(view);
+        if rows > 0 {
+            b.chunk((chunk, cols)).fletcher32().create(name)?;
+        } else {
+            b.create(name)?;
+        }
+    }
+    Ok(())
+}
+
+/// Read dataset `name` whole; a checksum failure says the checkpoint is damaged.
+fn get<T: H5Type>(f: &hdf5::File, path: &Path, name: &str) -> Result<Vec<T>, String> {
+    f.dataset(name)
+        .and_then(|d| d.read_raw())
+        .map_err(|e| read_error(path, name, &e))
+}
+
+fn read_error(path: &Path, name: &str, e: &hdf5::Error) -> String {
+    let text = e.to_string();
+    let lower = text.to_lowercase();
+    if lower.contains("checksum") || lower.contains("filter") || lower.contains("fletcher") {
+        format!(
+            "checkpoint {}: {name} fails its checksum: the file is damaged (a flipped byte, a bad disk or copy) and cannot be restarted from; use another copy of it ({text})",
+            path.display()
+        )
+    } else {
+        format!("checkpoint {}: cannot read {name}: {text}", path.display())
+    }
+}
+
+fn read_diag(f: &hdf5::File, path: &Path) -> Result<DiagState, String> {
+    let e = err(path);
+    let g = f.group("diagnostics").map_err(&e)?;
+    let attr_u64 = |name: &str| -> Result<u64, String> {
+        g.attr(name).and_then(|a| a.read_scalar()).map_err(&e)
+    };
+    let attr_f64 = |name: &str| -> Result<f64, String> {
+        g.attr(name).and_then(|a| a.read_scalar()).map_err(&e)
+    };
+    let sums = |name: &str| -> Result<SavedSums, String> {
+        let hi: Vec<i64> = get(f, path, &format!("diagnostics/{name}_hi"))?;
+        let lo: Vec<u64> = get(f, path, &format!("diagnostics/{name}_lo"))?;
+        if hi.len() != lo.len() {
+            return Err(format!(
+                "checkpoint {}: diagnostics/{name}_hi and _lo differ in length",
+                path.display()
+            ));
+        }
         let v = hi
             .iter()
             .zip(&lo)
             .map(|(&h, &l)| ((h as i128) << 64) | l as i128)
             .collect();
         Ok(SavedSums {
-            samples: g.attr(&format!("{name}_samples"))?.read_scalar()?,
-            angle_sum: g.attr(&format!("{name}_angle_sum"))?.read_scalar()?,
+            samples: attr_u64(&format!("{name}_samples"))?,
+            angle_sum: attr_f64(&format!("{name}_angle_sum"))?,
             sums: v,
         })
     };
@@ -121,12 +182,12 @@ fn read_diag(f: &hdf5::File) -> hdf5::Result<DiagState> {
         slices: sums("slices")?,
         fields: sums("fields")?,
         angles: AngleSums {
-            slice_sum: g.dataset("angle_slice_sum")?.read_raw()?,
-            slice_n: g.dataset("angle_slice_n")?.read_raw()?,
-            drum_sum: g.attr("angle_drum_sum")?.read_scalar()?,
-            drum_n: g.attr("angle_drum_n")?.read_scalar()?,
+            slice_sum: get(f, path, "diagnostics/angle_slice_sum")?,
+            slice_n: get(f, path, "diagnostics/angle_slice_n")?,
+            drum_sum: attr_f64("angle_drum_sum")?,
+            drum_n: attr_u64("angle_drum_n")?,
         },
-        path_ids: g.dataset("path_ids")?.read_raw()?,
+        path_ids: get(f, path, "diagnostics/path_ids")?,
     })
 }
 
@@ -139,103 +200,95 @@ fn err(path: &Path) -> impl Fn(hdf5::Error) -> String + '_ {
     move |e| format!("checkpoint {}: {e}", path.display())
 }
 
-/// Write `ck` to `path` atomically.
-pub fn write(path: &Path, ck: &Checkpoint) -> Result<(), String> {
+/// The temporary name a checkpoint is written under (`NAME` -> `NAME.tmp`).
+pub fn tmp_path(path: &Path) -> PathBuf {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    {
-        let e = err(&tmp);
-        let f = hdf5::File::create(&tmp).map_err(&e)?;
-        let text =
-            VarLenUnicode::from_str(&ck.case_text).map_err(|x| format!("checkpoint: {x}"))?;
-        f.new_attr::<VarLenUnicode>()
-            .create("case")
-            .and_then(|a| a.write_scalar(&text))
-            .map_err(&e)?;
-        let version =
-            VarLenUnicode::from_str(env!("CARGO_PKG_VERSION")).map_err(|x| x.to_string())?;
-        f.new_attr::<VarLenUnicode>()
-            .create("version")
-            .and_then(|a| a.write_scalar(&version))
-            .map_err(&e)?;
-        for (name, v) in [("step", ck.step), ("samples", ck.samples)] {
-            f.new_attr::<u64>()
-                .create(name)
-                .and_then(|a| a.write_scalar(&v))
-                .map_err(&e)?;
-        }
-        let p = &ck.particles;
-        let n = p.len();
-        let g = f.create_group("particles").map_err(&e)?;
-        let rows = |k: usize, get: &dyn Fn(&ParticleState) -> Vec<f64>| {
-            Array2::from_shape_vec((n, k), p.iter().flat_map(get).collect()).expect("rows")
-        };
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(p.iter().map(|s| s.id)))
-            .create("id")
-            .map_err(&e)?;
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(p.iter().map(|s| s.species)))
-            .create("species")
-            .map_err(&e)?;
-        g.new_dataset_builder()
-            .with_data(&Array1::from_iter(p.iter().map(|s| s.diameter)))
-            .create("diameter")
-            .map_err(&e)?;
-        for (name, get) in [
-            (
-                "position",
-                &(|s: &ParticleState| s.x.to_vec()) as &dyn Fn(&ParticleState) -> Vec<f64>,
-            ),
-            ("velocity", &|s: &ParticleState| s.v.to_vec()),
-            ("angular_velocity", &|s: &ParticleState| s.w.to_vec()),
-            ("force", &|s: &ParticleState| s.f.to_vec()),
-            ("torque", &|s: &ParticleState| s.t.to_vec()),
-        ] {
-            g.new_dataset_builder()
-                .with_data(&rows(3, get))
-                .create(name)
-                .map_err(&e)?;
-        }
-        let wall = rows(3 * WALLS, &|s: &ParticleState| {
-            s.wall_hist.iter().flatten().copied().collect()
-        });
-        g.new_dataset_builder()
-            .with_data(&wall)
-            .create("wall_history")
-            .map_err(&e)?;
-        let h = &ck.histories;
-        let c = f.create_group("contacts").map_err(&e)?;
-        c.new_dataset_builder()
-            .with_data(&Array1::from_iter(h.iter().map(|x| x.0)))
-            .create("id_a")
-            .map_err(&e)?;
-        c.new_dataset_builder()
-            .with_data(&Array1::from_iter(h.iter().map(|x| x.1)))
-            .create("id_b")
-            .map_err(&e)?;
-        let hist = Array2::from_shape_vec((h.len(), 3), h.iter().flat_map(|x| x.2).collect())
-            .expect("rows");
-        c.new_dataset_builder()
-            .with_data(&hist)
-            .create("history")
-            .map_err(&e)?;
-        write_diag(&f, &ck.diag).map_err(&e)?;
-        f.flush().map_err(&e)?;
+    PathBuf::from(tmp)
+}
+
+/// Write `ck` to `path` atomically: written whole under [`tmp_path`], synced, then renamed
+/// over `path`. On any error the temporary file is removed and `path` is left as it was.
+pub fn write(path: &Path, ck: &Checkpoint) -> Result<(), String> {
+    let tmp = tmp_path(path);
+    let written = write_file(&tmp, ck).and_then(|()| {
+        std::fs::File::open(&tmp)
+            .and_then(|f| f.sync_all())
+            .and_then(|()| std::fs::rename(&tmp, path))
+            .map_err(|x| format!("checkpoint {}: {x}", path.display()))
+    });
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(format!("{e}; the previous checkpoint, if any, is kept"));
     }
-    let io = |x: std::io::Error| format!("checkpoint {}: {x}", path.display());
-    std::fs::File::open(&tmp)
-        .and_then(|f| f.sync_all())
-        .map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(io)?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
     }
     Ok(())
 }
 
-/// Read a checkpoint.
+fn write_file(tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
+    let e = err(tmp);
+    let f = hdf5::File::with_options()
+        .with_fapl(|p| p.libver_v110())
+        .create(tmp)
+        .map_err(&e)?;
+    let text = VarLenUnicode::from_str(&ck.case_text).map_err(|x| format!("checkpoint: {x}"))?;
+    f.new_attr::<VarLenUnicode>()
+        .create("case")
+        .and_then(|a| a.write_scalar(&text))
+        .map_err(&e)?;
+    let version = VarLenUnicode::from_str(env!("CARGO_PKG_VERSION")).map_err(|x| x.to_string())?;
+    f.new_attr::<VarLenUnicode>()
+        .create("version")
+        .and_then(|a| a.write_scalar(&version))
+        .map_err(&e)?;
+    for (name, v) in [("step", ck.step), ("samples", ck.samples)] {
+        f.new_attr::<u64>()
+            .create(name)
+            .and_then(|a| a.write_scalar(&v))
+            .map_err(&e)?;
+    }
+    let p = &ck.particles;
+    let g = f.create_group("particles").map_err(&e)?;
+    let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
+    put(&g, "id", &ids, 1).map_err(&e)?;
+    drop(ids);
+    let species: Vec<u8> = p.iter().map(|s| s.species).collect();
+    put(&g, "species", &species, 1).map_err(&e)?;
+    let diameter: Vec<f64> = p.iter().map(|s| s.diameter).collect();
+    put(&g, "diameter", &diameter, 1).map_err(&e)?;
+    type Get = fn(&ParticleState) -> [f64; 3];
+    for (name, get) in [
+        ("position", (|s| s.x) as Get),
+        ("velocity", |s| s.v),
+        ("angular_velocity", |s| s.w),
+        ("force", |s| s.f),
+        ("torque", |s| s.t),
+    ] {
+        let rows: Vec<f64> = p.iter().flat_map(get).collect();
+        put(&g, name, &rows, 3).map_err(&e)?;
+    }
+    let wall: Vec<f64> = p
+        .iter()
+        .flat_map(|s| s.wall_hist.iter().flatten().copied())
+        .collect();
+    put(&g, "wall_history", &wall, 3 * WALLS).map_err(&e)?;
+    drop(wall);
+    let h = &ck.histories;
+    let c = f.create_group("contacts").map_err(&e)?;
+    let a: Vec<u64> = h.iter().map(|x| x.0).collect();
+    put(&c, "id_a", &a, 1).map_err(&e)?;
+    let b: Vec<u64> = h.iter().map(|x| x.1).collect();
+    put(&c, "id_b", &b, 1).map_err(&e)?;
+    let hist: Vec<f64> = h.iter().flat_map(|x| x.2).collect();
+    put(&c, "history", &hist, 3).map_err(&e)?;
+    write_diag(&f, &ck.diag).map_err(&e)?;
+    f.flush().map_err(&e)?;
+    Ok(())
+}
+
+/// Read a checkpoint (every dataset's checksum is verified).
 pub fn read(path: &Path) -> Result<Checkpoint, String> {
     let e = err(path);
     let f = hdf5::File::open(path).map_err(&e)?;
@@ -245,13 +298,11 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
         .attr("samples")
         .and_then(|a| a.read_scalar())
         .map_err(&e)?;
-    let ds = |name: &str| f.dataset(name).map_err(&e);
-    let id: Vec<u64> = ds("particles/id")?.read_raw().map_err(&e)?;
-    let species: Vec<u8> = ds("particles/species")?.read_raw().map_err(&e)?;
-    let diameter: Vec<f64> = ds("particles/diameter")?.read_raw().map_err(&e)?;
-    let v3 = |name: &str| -> Result<Vec<f64>, String> {
-        ds(&format!("particles/{name}"))?.read_raw().map_err(&e)
-    };
+    let id: Vec<u64> = get(&f, path, "particles/id")?;
+    let species: Vec<u8> = get(&f, path, "particles/species")?;
+    let diameter: Vec<f64> = get(&f, path, "particles/diameter")?;
+    let v3 =
+        |name: &str| -> Result<Vec<f64>, String> { get(&f, path, &format!("particles/{name}")) };
     let (x, v, w, force, torque) = (
         v3("position")?,
         v3("velocity")?,
@@ -291,9 +342,9 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
             s
         })
         .collect();
-    let a: Vec<u64> = ds("contacts/id_a")?.read_raw().map_err(&e)?;
-    let b: Vec<u64> = ds("contacts/id_b")?.read_raw().map_err(&e)?;
-    let h: Vec<f64> = ds("contacts/history")?.read_raw().map_err(&e)?;
+    let a: Vec<u64> = get(&f, path, "contacts/id_a")?;
+    let b: Vec<u64> = get(&f, path, "contacts/id_b")?;
+    let h: Vec<f64> = get(&f, path, "contacts/history")?;
     if b.len() != a.len() || h.len() != 3 * a.len() {
         return Err(format!(
             "checkpoint {}: the contact datasets differ in length",
@@ -307,7 +358,7 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
             path.display()
         ));
     }
-    let diag = read_diag(&f).map_err(&e)?;
+    let diag = read_diag(&f, path)?;
     Ok(Checkpoint {
         case_text: case_text.as_str().to_string(),
         step,

@@ -171,23 +171,46 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
     Ok(())
 }
 
-/// Prepare the load-balance series for `ranks` slabs: new, or after a restart cut back to
-/// `keep` records (started afresh when the rank count changed, as the bounds' shape does).
-pub fn prepare_balance(file: &File, ranks: usize, keep: Option<usize>) -> hdf5::Result<()> {
-    if file.link_exists("balance") {
-        let same = file.dataset("balance/bounds")?.shape().get(1) == Some(&(ranks + 1));
-        if let (true, Some(n)) = (same, keep) {
-            let g = file.group("balance")?;
-            for name in g.member_names()? {
-                let ds = g.dataset(&name)?;
-                series::truncate(&ds, n.min(ds.shape()[0]))?;
+/// Prepare the load-balance series for `ranks` slabs. A fresh run (`keep_until` is `None`)
+/// creates `/balance`. A restart passes the rotations of its checkpoint: every record after
+/// them is cut (in `/balance` and in the earlier segments); if the rank count changed, the
+/// records so far (whose bounds have another width) move to `/balance_earlier/segment_K`
+/// (K = 0, 1, ... in order) and a new `/balance` starts. Each segment has a `ranks`
+/// attribute.
+pub fn prepare_balance(file: &File, ranks: usize, keep_until: Option<f64>) -> hdf5::Result<()> {
+    if let Some(until) = keep_until {
+        if file.link_exists("balance_earlier") {
+            let earlier = file.group("balance_earlier")?;
+            let mut names = earlier.member_names()?;
+            names.sort();
+            for name in names {
+                if cut_balance(&earlier.group(&name)?, until)? == 0 {
+                    earlier.unlink(&name)?;
+                }
             }
-            return Ok(());
         }
+        if file.link_exists("balance") {
+            let kept = cut_balance(&file.group("balance")?, until)?;
+            let same = file.dataset("balance/bounds")?.shape().get(1) == Some(&(ranks + 1));
+            if same {
+                return Ok(());
+            }
+            if kept == 0 {
+                file.unlink("balance")?;
+            } else {
+                let earlier = group(file, "balance_earlier")?;
+                let k = earlier.member_names()?.len();
+                file.relink("balance", &format!("balance_earlier/segment_{k}"))?;
+            }
+        }
+    } else if file.link_exists("balance") {
         file.unlink("balance")?;
     }
     let g = group(file, "balance")?;
     str_attr(&g, "definition", "load-balance checks every run.balance_every rotations: work per rank = particles + listed pairs it evaluates")?;
+    g.new_attr::<u64>()
+        .create("ranks")?
+        .write_scalar(&(ranks as u64))?;
     series::create::<f64>(&g, "rotations", &[], "rotations", "time of each check")?;
     series::create::<f64>(
         &g,
@@ -213,6 +236,20 @@ pub fn prepare_balance(file: &File, ranks: usize, keep: Option<usize>) -> hdf5::
     Ok(())
 }
 
+/// Cut a load-balance segment back to its checks at or before `until` rotations; the
+/// records kept.
+fn cut_balance(g: &Group, until: f64) -> hdf5::Result<usize> {
+    let rotations: Vec<f64> = g.dataset("rotations")?.read_raw()?;
+    let keep = rotations.iter().take_while(|&&r| r <= until).count();
+    for name in g.member_names()? {
+        let ds = g.dataset(&name)?;
+        if ds.is_chunked() {
+            series::truncate(&ds, keep.min(ds.shape()[0]))?;
+        }
+    }
+    Ok(keep)
+}
+
 /// Append one load-balance check.
 pub fn append_balance(
     file: &File,
@@ -224,7 +261,8 @@ pub fn append_balance(
     put(file, "balance/rotations", &[rotations])?;
     put(file, "balance/imbalance_before", &[before])?;
     put(file, "balance/imbalance_after", &[after])?;
-    put(file, "balance/bounds", bounds)
+    put(file, "balance/bounds", bounds)?;
+    file.flush()
 }
 
 fn window_bounds(g: &Group) -> hdf5::Result<()> {

@@ -11,7 +11,10 @@
 //! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`.
 //!
 //! The file is written under `NAME.partial` and renamed to `NAME` once complete, so a file
-//! with the final name is always whole.
+//! with the final name is always whole. It is flushed after every record and, before every
+//! checkpoint, synced to disk ([`RunFile::sync`]), so that what a checkpoint counts is on
+//! disk before the checkpoint is; a restart reads the whole file back before cutting it
+//! ([`verify`]) and refuses one that a failed write (a full disk) left unreadable.
 
 use super::diag_file::DiagLayout;
 use super::series::{self, describe};
@@ -118,58 +121,86 @@ impl RunFile {
     }
 
     /// Reopen the output of an interrupted (or finished) run to continue it from a
-    /// checkpoint: the axial series are cut back to its first `samples` samples and what a
-    /// finished run added (`/particles`, end-of-run statistics) is removed. Also returns the
-    /// volume fractions of species `big` kept, for the space-time plot.
-    pub fn reopen(path: &Path, samples: usize, big: usize) -> hdf5::Result<(Self, Vec<Vec<f64>>)> {
+    /// checkpoint: the file is first read back whole ([`verify`]), then the axial series are
+    /// cut back to its first `samples` samples and what a finished run added (`/particles`,
+    /// end-of-run statistics) is removed; the root attribute `ranks` becomes `ranks`. Also
+    /// returns the volume fractions of species `big` kept, for the space-time plot.
+    pub fn reopen(
+        path: &Path,
+        samples: usize,
+        big: usize,
+        ranks: usize,
+    ) -> Result<(Self, Vec<Vec<f64>>), String> {
         let partial_path = partial_path(path);
-        if !partial_path.exists() && path.exists() {
-            std::fs::rename(path, &partial_path)
-                .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        let existing = if partial_path.exists() {
+            partial_path.clone()
+        } else {
+            path.to_path_buf()
+        };
+        verify(&existing).map_err(|e| {
+            format!(
+                "the output {} cannot be read back ({e}); a write to it failed (a full disk?) after its last checkpoint and left it damaged, so it cannot be continued. The checkpoint itself is intact: continue into a new file with -o OTHER.h5 --new-output (it will hold only the continuation)",
+                existing.display()
+            )
+        })?;
+        let on = |e: hdf5::Error| format!("{}: {e}", existing.display());
+        if existing != partial_path {
+            std::fs::rename(path, &partial_path).map_err(|e| {
+                format!(
+                    "cannot rename {} to {}: {e}",
+                    path.display(),
+                    partial_path.display()
+                )
+            })?;
         }
-        let file = hdf5::File::open_rw(&partial_path)?;
+        let file = hdf5::File::open_rw(&partial_path).map_err(on)?;
         if !file.link_exists("slices") || !file.link_exists("axial/mean_axial_velocity") {
-            return Err(hdf5::Error::from(
-                "it was written by a tumbler without windowed diagnostics (before 0.2); finish that run with the version that started it",
+            return Err(format!(
+                "{}: it was written by a tumbler without windowed diagnostics (before 0.2); finish that run with the version that started it",
+                partial_path.display()
             ));
         }
+        let on = |e: hdf5::Error| format!("{}: {e}", partial_path.display());
         if file.link_exists("particles") {
-            file.unlink("particles")?;
+            file.unlink("particles").map_err(on)?;
         }
-        let names = file.attr_names()?;
+        let names = file.attr_names().map_err(on)?;
         for a in [
             "steps",
             "rebuilds",
             "migrations",
             "histories_migrated",
             "peak_rss_bytes_per_rank",
+            "ranks",
         ] {
             if names.iter().any(|n| n == a) {
-                file.delete_attr(a)?;
+                file.delete_attr(a).map_err(on)?;
             }
         }
-        let rotations = file.dataset("axial/rotations")?;
-        let volume_fraction = file.dataset("axial/volume_fraction")?;
-        let count = file.dataset("axial/count")?;
+        file.new_attr::<u64>()
+            .create("ranks")
+            .and_then(|a| a.write_scalar(&(ranks as u64)))
+            .map_err(on)?;
+        let rotations = file.dataset("axial/rotations").map_err(on)?;
+        let volume_fraction = file.dataset("axial/volume_fraction").map_err(on)?;
+        let count = file.dataset("axial/count").map_err(on)?;
         let shape = volume_fraction.shape();
         let (ns, nz) = (shape[1], shape[2]);
         if shape[0] < samples {
-            return Err(hdf5::Error::from(
-                format!(
-                    "it holds {} axial samples, fewer than the checkpoint's {samples}",
-                    shape[0]
-                )
-                .as_str(),
+            return Err(format!(
+                "{}: it holds {} axial samples, fewer than the checkpoint's {samples}: it is not the output of the run that wrote the checkpoint",
+                partial_path.display(),
+                shape[0]
             ));
         }
-        let axial = file.group("axial")?;
-        for name in axial.member_names()? {
-            let ds = axial.dataset(&name)?;
+        let axial = file.group("axial").map_err(on)?;
+        for name in axial.member_names().map_err(on)? {
+            let ds = axial.dataset(&name).map_err(on)?;
             if ds.is_chunked() {
-                super::series::truncate(&ds, samples)?;
+                super::series::truncate(&ds, samples).map_err(on)?;
             }
         }
-        let vf: Vec<f64> = volume_fraction.read_raw()?;
+        let vf: Vec<f64> = volume_fraction.read_raw().map_err(on)?;
         let columns = (0..samples)
             .map(|t| vf[(t * ns + big) * nz..(t * ns + big + 1) * nz].to_vec())
             .collect();
@@ -184,6 +215,21 @@ impl RunFile {
             },
             columns,
         ))
+    }
+
+    /// Put everything written so far on disk (HDF5's buffers, then the file's), so that a
+    /// checkpoint written next counts only records that are there.
+    pub fn sync(&self) -> Result<(), String> {
+        let path = &self.partial_path;
+        self.file
+            .flush()
+            .map_err(|e| e.to_string())
+            .and_then(|()| {
+                std::fs::File::open(path)
+                    .and_then(|f| f.sync_all())
+                    .map_err(|e| e.to_string())
+            })
+            .map_err(|e| format!("output {}: cannot be written to disk: {e}", path.display()))
     }
 
     /// Append one axial sample taken at `rotations`, with its band count.
@@ -251,6 +297,41 @@ pub fn write_states(g: &hdf5::Group, states: &[ParticleState]) -> hdf5::Result<(
         let ds = g.new_dataset_builder().with_data(&vec3(f)).create(name)?;
         describe(&ds, units, def)?;
     }
+    Ok(())
+}
+
+/// Open the run file at `path` read-only and read every dataset of its series back whole
+/// (`/axial`, `/slices`, `/fields`, `/paths`, `/balance`, earlier load-balance segments) and
+/// the attributes of its snapshots: what a restart relies on before it cuts the file.
+pub fn verify(path: &Path) -> hdf5::Result<()> {
+    let file = hdf5::File::open(path)?;
+    let mut groups = Vec::new();
+    for name in [
+        "axial",
+        "slices",
+        "fields",
+        "paths",
+        "balance",
+        "balance_earlier",
+    ] {
+        if file.link_exists(name) {
+            groups.push(file.group(name)?);
+        }
+    }
+    while let Some(g) = groups.pop() {
+        for ds in g.datasets()? {
+            let dt = ds.dtype()?;
+            if dt.is::<f64>() {
+                ds.read_raw::<f64>()?;
+            } else if dt.is::<u64>() {
+                ds.read_raw::<u64>()?;
+            } else if dt.is::<u8>() {
+                ds.read_raw::<u8>()?;
+            }
+        }
+        groups.extend(g.groups()?);
+    }
+    super::diag_file::snapshots(&file)?;
     Ok(())
 }
 

@@ -1,9 +1,11 @@
 //! Files a run writes: the HDF5 file (axial series, diagnostics, snapshots) with its XDMF
-//! companion, the space-time PNG, checkpoints.
+//! companion, the space-time PNG, checkpoints, and the lock that keeps two runs off the
+//! same output.
 
 pub mod checkpoint;
 pub mod diag_file;
 pub mod h5;
+pub mod lock;
 pub mod series;
 pub mod spacetime;
 pub mod xdmf;

@@ -123,7 +123,11 @@ impl RunDiagnostics {
                 windows.angles = d.angles.clone();
                 PathTracker::from_ids(d.path_ids.clone())
             }
-            None => PathTracker::select(&g.paths, &sim.p, comm),
+            None => {
+                let paths = PathTracker::select(&g.paths, &sim.p, comm);
+                missing_path_ids(&paths.ids, sim, comm)?;
+                paths
+            }
         };
         Ok(RunDiagnostics {
             axial,
@@ -315,6 +319,37 @@ impl RunDiagnostics {
         self.windows.slices.sums = state.slices.sums;
         self.windows.fields.sums = state.fields.sums;
     }
+}
+
+/// Refuse followed ids that no particle of the initial state has (every rank counts its
+/// own, the counts are summed, so every rank gives the same answer).
+fn missing_path_ids(ids: &[u64], sim: &Sim, comm: &dyn Comm) -> Result<(), String> {
+    let mut present = vec![0u64; ids.len()];
+    for &id in &sim.p.id[..sim.p.n_owned] {
+        if let Ok(k) = ids.binary_search(&id) {
+            present[k] += 1;
+        }
+    }
+    comm.sum_u64_all(&mut present);
+    let missing: Vec<String> = ids
+        .iter()
+        .zip(&present)
+        .filter(|(_, &n)| n == 0)
+        .map(|(id, _)| id.to_string())
+        .collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let n = sim.global_count();
+    Err(format!(
+        "diagnostics.paths.ids: no particle has id {} (the initial state has {n} particles{})",
+        missing.join(", "),
+        if n > 0 {
+            ", ids from 0; a pour removes the ids of the particles it cuts"
+        } else {
+            ""
+        }
+    ))
 }
 
 /// Log a failed write; whether it succeeded.

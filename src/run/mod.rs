@@ -13,7 +13,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod diagnostics;
+mod preflight;
 pub use diagnostics::RunDiagnostics;
+pub use preflight::same_file;
 
 /// Steps between checks of the stop flag (a global reduction).
 const STOP_CHECK_EVERY: u64 = 20;
@@ -32,6 +34,9 @@ pub struct RunOptions {
     pub restart: Option<PathBuf>,
     /// Accept a checkpoint whose drum, model, species or time step differ from the case.
     pub allow_different_case: bool,
+    /// With `restart`: write the continuation to a new file `output` (which must not exist)
+    /// instead of continuing the output of the run that wrote the checkpoint.
+    pub new_output: bool,
     /// Set (by a signal handler) to ask every rank to checkpoint and stop.
     pub stop: Option<Arc<AtomicBool>>,
 }
@@ -81,6 +86,27 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
 pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd, String> {
     let case = &lc.case;
     let root = comm.rank() == 0;
+    // Before anything is computed or written: rank 0 checks the run's files and locks the
+    // output (held until this function returns).
+    let mut lock = None;
+    let mut refused = String::new();
+    if root {
+        match preflight::prepare(lc, opts) {
+            Ok(l) => lock = Some(l),
+            Err(e) => refused = e,
+        }
+    }
+    if !comm.all_ok(refused.is_empty()) {
+        return Err(if root {
+            refused
+        } else {
+            "rank 0 refused the run's files".into()
+        });
+    }
+    let _lock = lock;
+    let (omega, dt) = (case.drum.omega, case.dt());
+    let total = steps_for(case.run.rotations, omega, dt);
+    let every = steps_for(case.output.sample_every, omega, dt).max(1);
     let mut pour_report = None;
     let mut restored_diag = None;
     let (mut sim, resumed_samples) = match &opts.restart {
@@ -93,6 +119,25 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             }
             let ck = ck?;
             check_compatible(&ck.case_text, case, opts.allow_different_case, path)?;
+            if let Some(end) = no_steps_left(&ck, total, case, path, &opts.output)? {
+                if root {
+                    log::warn!("{end}");
+                }
+                return Ok(RunEnd::Finished(RunSummary {
+                    particles: ck.particles.len() as u64,
+                    steps: 0,
+                    seconds: 0.0,
+                    particle_steps_per_second: 0.0,
+                }));
+            }
+            let refused = if root {
+                preflight::check_restart_output(opts, path).err()
+            } else {
+                None
+            };
+            if !comm.all_ok(refused.is_none()) {
+                return Err(refused.unwrap_or_else(|| "rank 0 refused the run's output".into()));
+            }
             let sim = Sim::resume(case, comm, &ck.particles, ck.histories, ck.step)
                 .map_err(|e| e.to_string())?;
             if root {
@@ -152,38 +197,36 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             ranks: comm.size(),
             species: case.species.iter().map(|s| s.name.clone()).collect(),
         };
+        let partial = crate::output::partial_path(&opts.output);
         let opened = match resumed_samples {
-            Some(samples)
-                if opts.output.exists() || crate::output::partial_path(&opts.output).exists() =>
-            {
-                RunFile::reopen(&opts.output, samples as usize, big).and_then(|(f, c)| {
-                    columns = c;
-                    diags.resume_file(&f, sim.step)?;
-                    let checks = (sim.step / balance_steps) as usize + 1;
-                    diag_file::prepare_balance(f.file(), comm.size(), Some(checks))?;
-                    Ok(f)
-                })
-            }
-            _ if opts.output.exists() && !opts.overwrite => {
-                open_err = format!(
-                    "output file {} exists; pass --overwrite to replace it or -o to choose another",
-                    opts.output.display()
-                );
-                Err(hdf5::Error::from("exists"))
-            }
-            _ => RunFile::create(&opts.output, &meta, &bins.centres(), &diags.layout()).and_then(
-                |f| {
+            Some(samples) if opts.output.exists() || partial.exists() => RunFile::reopen(
+                &opts.output,
+                samples as usize,
+                big,
+                comm.size(),
+            )
+            .and_then(|(f, c)| {
+                columns = c;
+                diags
+                    .resume_file(&f, sim.step)
+                    .and_then(|()| {
+                        diag_file::prepare_balance(f.file(), comm.size(), Some(sim.rotations()))
+                    })
+                    .map_err(|e| {
+                        format!("cannot continue output file {}: {e}", partial.display())
+                    })?;
+                Ok(f)
+            }),
+            _ => RunFile::create(&opts.output, &meta, &bins.centres(), &diags.layout())
+                .and_then(|f| {
                     diag_file::prepare_balance(f.file(), comm.size(), None)?;
                     Ok(f)
-                },
-            ),
+                })
+                .map_err(|e| format!("cannot open output file {}: {e}", opts.output.display())),
         };
         match opened {
             Ok(f) => file = Some(f),
-            Err(e) if open_err.is_empty() => {
-                open_err = format!("cannot open output file {}: {e}", opts.output.display())
-            }
-            Err(_) => {}
+            Err(e) => open_err = e,
         }
     }
     if !comm.all_ok(open_err.is_empty()) {
@@ -194,9 +237,6 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         });
     }
 
-    let (omega, dt) = (case.drum.omega, case.dt());
-    let total = steps_for(case.run.rotations, omega, dt);
-    let every = steps_for(case.output.sample_every, omega, dt).max(1);
     let progress_every = steps_for(case.output.progress_every, omega, dt).max(1);
     if root {
         log::info!(
@@ -241,7 +281,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
     // sample off the schedule is written but dropped again by a restart.
     let mut imbalance = 1.0;
     let mut scheduled = match resumed_samples {
-        Some(k) => k,
+        Some(k) => {
+            // a checkpoint at the last step of a run that had not been renamed yet: the
+            // final sample, off the schedule, was cut with the file; take it again
+            if sim.step == total && total % every != 0 {
+                sample(&mut sim, &mut file)?;
+            }
+            k
+        }
         None => {
             sample(&mut sim, &mut file)?;
             diags.after_step(&sim, comm, file.as_ref())?;
@@ -289,7 +336,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             if sim.step % STOP_CHECK_EVERY == 0 && !comm.all_ok(!stop.load(Ordering::SeqCst)) {
                 // every rank finishes this step, then the state is saved and the run stops;
                 // the output stays NAME.partial for the restart to continue
-                save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
+                save_checkpoint(
+                    &sim,
+                    &mut diags,
+                    &lc.text,
+                    scheduled,
+                    &ck_path,
+                    file.as_ref(),
+                )?;
                 drop(file);
                 if root {
                     log::warn!(
@@ -307,7 +361,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
         if ck_every.is_some_and(|k| sim.step % k == 0) && sim.step < total {
             let t0 = Instant::now();
-            save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
+            save_checkpoint(
+                &sim,
+                &mut diags,
+                &lc.text,
+                scheduled,
+                &ck_path,
+                file.as_ref(),
+            )?;
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
         if root && sim.step % progress_every == 0 {
@@ -327,7 +388,14 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
     }
     let seconds = start.elapsed().as_secs_f64();
-    save_checkpoint(&sim, &mut diags, &lc.text, scheduled, &ck_path)?;
+    save_checkpoint(
+        &sim,
+        &mut diags,
+        &lc.text,
+        scheduled,
+        &ck_path,
+        file.as_ref(),
+    )?;
     diags.finish(&sim, comm, file.as_ref())?;
 
     let states = sim.gather_sorted();
@@ -447,19 +515,25 @@ fn balance_check(sim: &mut Sim, case: &Case, file: Option<&RunFile>) -> Result<f
     }
 }
 
-/// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes).
+/// Write a checkpoint of `sim` (all ranks call this together; rank 0 writes). The output
+/// `file` is synced to disk first, so that the records the checkpoint counts are there
+/// before it is; if that fails, no checkpoint is written and the previous one stays.
 fn save_checkpoint(
     sim: &Sim,
     diags: &mut RunDiagnostics,
     case_text: &str,
     samples: u64,
     path: &Path,
+    file: Option<&RunFile>,
 ) -> Result<(), String> {
     let diag = diags.state(sim.comm());
     let particles = sim.gather_sorted();
     let histories = sim.gather_histories();
     let mut err = String::new();
-    if let (Some(particles), Some(histories)) = (particles, histories) {
+    if let Some(Err(e)) = file.map(RunFile::sync) {
+        err = format!("{e}; no checkpoint written (the previous one, if any, is kept)");
+        diags.restore(diag);
+    } else if let (Some(particles), Some(histories)) = (particles, histories) {
         let ck = Checkpoint {
             case_text: case_text.to_string(),
             step: sim.step,
@@ -536,4 +610,37 @@ fn check_compatible(text: &str, case: &Case, allow: bool, path: &Path) -> Result
             differ.join(", ")
         ))
     }
+}
+
+/// A restart whose checkpoint leaves no step to take: `Some(message)` when the finished
+/// output is there (nothing to do, it is left as it is), an error when the checkpoint is
+/// past `run.rotations`, `None` when there is something to do (steps, or the last step's
+/// output to finish).
+fn no_steps_left(
+    ck: &Checkpoint,
+    total: u64,
+    case: &Case,
+    path: &Path,
+    output: &Path,
+) -> Result<Option<String>, String> {
+    let done =
+        |step: u64| step as f64 * case.dt() * case.drum.omega.abs() / (2.0 * std::f64::consts::PI);
+    if ck.step > total {
+        return Err(format!(
+            "checkpoint {} is at step {} ({:.4} rotations), past run.rotations = {} (step {total}): there is nothing to continue; raise run.rotations to go on",
+            path.display(),
+            ck.step,
+            done(ck.step),
+            case.run.rotations
+        ));
+    }
+    let finished = output.exists() && !crate::output::partial_path(output).exists();
+    Ok((ck.step == total && finished).then(|| {
+        format!(
+            "nothing to do: checkpoint {} is at the end of the run (step {total}, run.rotations = {}), and {} holds the whole run; it is left unchanged (raise run.rotations to continue it)",
+            path.display(),
+            case.run.rotations,
+            output.display()
+        )
+    }))
 }

@@ -279,6 +279,7 @@ pub fn validate(comm: &dyn Comm, opts: &ValidateOptions) -> Result<ValidateEnd, 
                     overwrite: restart.is_none(),
                     restart,
                     allow_different_case: false,
+                    new_output: false,
                     stop: opts.stop.clone(),
                 };
                 if let RunEnd::Stopped { checkpoint, .. } = run(&lc, comm, &run_opts)? {
