@@ -131,7 +131,7 @@ fn centres(n: usize, spacing: f64) -> Vec<f64> {
 /// The big species' volume fraction at sample `t`, slice `k`: 2 bands, then 4.
 fn big_fraction(t: usize, k: usize) -> f64 {
     let width = if t < NT / 2 { NZ / 2 } else { NZ / 4 };
-    if (k / width) % 2 == 0 {
+    if (k / width).is_multiple_of(2) {
         0.9
     } else {
         0.1

@@ -98,7 +98,7 @@ mod tests {
     /// `n` bands of `w` slices each, alternating from big-rich.
     fn square(n: usize, w: usize) -> Vec<f64> {
         (0..n * w)
-            .map(|k| if (k / w) % 2 == 0 { 0.9 } else { 0.1 })
+            .map(|k| if (k / w).is_multiple_of(2) { 0.9 } else { 0.1 })
             .collect()
     }
 

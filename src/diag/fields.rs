@@ -115,7 +115,7 @@ fn flowing_layer(acc: &BinnedSums, out: &mut FieldWindow) {
             .find(|&iy| solid(bin(ix, iy, iz)) >= SURFACE_FRACTION)
     };
     let central = |n: usize| {
-        if n % 2 == 0 {
+        if n.is_multiple_of(2) {
             vec![n / 2 - 1, n / 2]
         } else {
             vec![n / 2]

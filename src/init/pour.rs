@@ -239,7 +239,7 @@ const POUR_MAX_OVERLAP: f64 = 0.5;
 /// pour that blows up stops there, not in the run's first steps with particles far outside
 /// the drum.
 fn healthy(sim: &Sim, case: &Case, stage: &str, last: bool) -> Result<(), String> {
-    if sim.step % CHECK_EVERY != 0 && !last {
+    if !sim.step.is_multiple_of(CHECK_EVERY) && !last {
         return Ok(());
     }
     let health = sim.health(

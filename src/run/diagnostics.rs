@@ -193,18 +193,18 @@ impl RunDiagnostics {
         let s = self.sched;
         let mut ok = true;
         let mut any = false;
-        if step > 0 && step % s.sample == 0 {
+        if step > 0 && step.is_multiple_of(s.sample) {
             self.windows.sample(&sim.p, comm);
         }
-        if step > 0 && step % s.window == 0 {
+        if step > 0 && step.is_multiple_of(s.window) {
             any = true;
             ok &= self.close(false, comm, file, step - s.window, step);
         }
-        if step > 0 && step % s.field_window == 0 {
+        if step > 0 && step.is_multiple_of(s.field_window) {
             any = true;
             ok &= self.close(true, comm, file, step - s.field_window, step);
         }
-        if !self.paths.is_empty() && step % s.paths == 0 {
+        if !self.paths.is_empty() && step.is_multiple_of(s.paths) {
             any = true;
             let d = self.paths.gather(&sim.p, comm);
             if let (Some(d), Some(f)) = (d, file) {
@@ -214,7 +214,7 @@ impl RunDiagnostics {
                 );
             }
         }
-        if s.snapshots.is_some_and(|k| step % k == 0) {
+        if s.snapshots.is_some_and(|k| step.is_multiple_of(k)) {
             any = true;
             let states = sim.gather_sorted();
             if let (Some(states), Some(f)) = (states, file) {
@@ -250,10 +250,10 @@ impl RunDiagnostics {
         let step = sim.step;
         let s = self.sched;
         let mut ok = true;
-        if step % s.window != 0 && self.windows.slices.samples > 0 {
+        if !step.is_multiple_of(s.window) && self.windows.slices.samples > 0 {
             ok &= self.close(false, comm, file, step - step % s.window, step);
         }
-        if step % s.field_window != 0 && self.windows.fields.samples > 0 {
+        if !step.is_multiple_of(s.field_window) && self.windows.fields.samples > 0 {
             ok &= self.close(true, comm, file, step - step % s.field_window, step);
         }
         if comm.all_ok(ok) {

@@ -284,7 +284,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         Some(k) => {
             // a checkpoint at the last step of a run that had not been renamed yet: the
             // final sample, off the schedule, was cut with the file; take it again
-            if sim.step == total && total % every != 0 {
+            if sim.step == total && !total.is_multiple_of(every) {
                 sample(&mut sim, &mut file)?;
             }
             k
