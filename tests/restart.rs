@@ -114,5 +114,11 @@ fn checkpoint_of_another_case_is_refused() {
     assert!(!mpirun(1, &other).status.success());
     let mut args = args.to_vec();
     args.push("--allow-different-case");
+    // b.h5 does not exist yet: a restart into a fresh output must say so
+    let o = mpirun(1, &args);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--new-output"), "{err}");
+    args.push("--new-output");
     assert!(mpirun(1, &args).status.success());
 }
