@@ -19,6 +19,17 @@ fn run(
     rotations: &str,
     restart: Option<&str>,
 ) -> std::process::Output {
+    run_with(ranks, dir, out, rotations, restart, &[])
+}
+
+fn run_with(
+    ranks: usize,
+    dir: &Path,
+    out: &str,
+    rotations: &str,
+    restart: Option<&str>,
+    extra: &[&str],
+) -> std::process::Output {
     let case = case_path("sd_capped.toml");
     let out = dir.join(out);
     let rot = format!("run.rotations={rotations}");
@@ -35,6 +46,7 @@ fn run(
         ck = dir.join(c);
         args.extend(["--restart", ck.to_str().unwrap()]);
     }
+    args.extend_from_slice(extra);
     let o = mpirun(ranks, &args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     o
@@ -45,35 +57,58 @@ fn restart_is_bit_identical_to_the_run_never_interrupted() {
     let dir = tmpdir();
     let d = dir.path();
     run(2, d, "full.h5", "0.1", None);
-    let full = hdf5::File::open(d.join("full.h5")).unwrap();
     // 0.047 rotations ends between two samples: that last sample is dropped on restart
     for (a, b) in [(1, 1), (2, 2), (1, 3), (3, 2)] {
         let name = format!("part{a}{b}.h5");
         run(a, d, &name, "0.047", None);
         let ck = format!("part{a}{b}.ckpt.h5");
         run(b, d, &name, "0.1", Some(&ck));
-        let part = hdf5::File::open(d.join(&name)).unwrap();
-        for ds in [
-            "particles/position",
-            "particles/velocity",
-            "particles/angular_velocity",
-            "axial/rotations",
-            "axial/volume_fraction",
-        ] {
-            assert_eq!(
-                bits(&full, ds),
-                bits(&part, ds),
-                "{a} -> {b} ranks: {ds} differs"
-            );
-        }
-        let c1: Vec<u64> = full.dataset("axial/count").unwrap().read_raw().unwrap();
-        let c2: Vec<u64> = part.dataset("axial/count").unwrap().read_raw().unwrap();
-        assert_eq!(c1, c2, "{a} -> {b} ranks: axial counts");
-        common::assert_same_diagnostics(
-            &d.join("full.h5"),
-            &d.join(&name),
-            &format!("{a} -> {b} ranks"),
+        assert_same_run(d, "full.h5", &name, &format!("{a} -> {b} ranks"));
+    }
+}
+
+/// The run `name` (interrupted and restarted) holds the same bits and series as `full`.
+fn assert_same_run(d: &Path, full: &str, name: &str, what: &str) {
+    let full_file = hdf5::File::open(d.join(full)).unwrap();
+    let part = hdf5::File::open(d.join(name)).unwrap();
+    for ds in [
+        "particles/position",
+        "particles/velocity",
+        "particles/angular_velocity",
+        "axial/rotations",
+        "axial/volume_fraction",
+    ] {
+        assert_eq!(
+            bits(&full_file, ds),
+            bits(&part, ds),
+            "{what}: {ds} differs"
         );
+    }
+    let c1: Vec<u64> = full_file
+        .dataset("axial/count")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let c2: Vec<u64> = part.dataset("axial/count").unwrap().read_raw().unwrap();
+    assert_eq!(c1, c2, "{what}: axial counts");
+    common::assert_same_diagnostics(&d.join(full), &d.join(name), what);
+}
+
+#[test]
+fn restart_onto_many_more_or_fewer_ranks_with_balancing_is_bit_identical() {
+    // The slab boundaries move every 0.02 rotations; the checkpoint holds the moved ones,
+    // and a restart cuts the drum for its own rank count, so particles and their contact
+    // histories go from any rank to any rank.
+    let dir = tmpdir();
+    let d = dir.path();
+    let balance = ["--set", "run.balance_every=0.02"];
+    run_with(1, d, "full.h5", "0.1", None, &balance);
+    for (a, b) in [(8, 3), (2, 8), (4, 6)] {
+        let name = format!("part{a}{b}.h5");
+        run_with(a, d, &name, "0.047", None, &balance);
+        let ck = format!("part{a}{b}.ckpt.h5");
+        run_with(b, d, &name, "0.1", Some(&ck), &balance);
+        assert_same_run(d, "full.h5", &name, &format!("{a} -> {b} ranks, balanced"));
     }
 }
 
