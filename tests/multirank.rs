@@ -69,8 +69,18 @@ fn assert_identical(case: &str) -> Vec<Snapshot> {
 }
 
 fn assert_identical_on(case: &str, rank_counts: &[usize]) -> Vec<Snapshot> {
-    let dir = tmpdir();
-    let one = run_on(1, case, dir.path(), &[]);
+    assert_identical_with(case, rank_counts, &[], &tmpdir())
+}
+
+/// Runs `case` with the overrides `extra` on one rank and on each of `rank_counts`, in `dir`
+/// (kept for the caller to read the outputs `CASE.RANKS.h5`), and asserts the same bits.
+fn assert_identical_with(
+    case: &str,
+    rank_counts: &[usize],
+    extra: &[&str],
+    dir: &tempfile::TempDir,
+) -> Vec<Snapshot> {
+    let one = run_on(1, case, dir.path(), extra);
     let n = one.id.len();
     assert!(n > 300, "{case}: only {n} particles");
     // sorted, each once (a pour keeps only the ids below its cut)
@@ -80,7 +90,7 @@ fn assert_identical_on(case: &str, rank_counts: &[usize]) -> Vec<Snapshot> {
     );
     let mut others = Vec::new();
     for &ranks in rank_counts {
-        let other = run_on(ranks, case, dir.path(), &[]);
+        let other = run_on(ranks, case, dir.path(), extra);
         assert_eq!(other.ranks, ranks as u64);
         assert!(
             other.migrations > 50,
@@ -149,6 +159,69 @@ fn history_model_pour_and_drum_are_bit_identical_on_1_2_3_ranks() {
             other.histories_migrated
         );
     }
+}
+
+/// The slab bounds of the last load-balance check of `CASE.RANKS.h5` in `dir`, and how far
+/// the farthest inner boundary lies from where equal slabs would put it, as a share of a slab.
+fn moved_bounds(dir: &Path, case: &str, ranks: usize) -> (Vec<f64>, f64) {
+    let f = hdf5::File::open(dir.join(format!("{case}.{ranks}.h5"))).unwrap();
+    let b = f.dataset("balance/bounds").unwrap();
+    let rows = b.shape()[0];
+    let all: Vec<f64> = b.read_raw().unwrap();
+    let last = all[(rows - 1) * (ranks + 1)..].to_vec();
+    let (lo, hi) = (last[0], last[ranks]);
+    let width = (hi - lo) / ranks as f64;
+    let moved = (1..ranks)
+        .map(|k| ((last[k] - (lo + k as f64 * width)) / width).abs())
+        .fold(0.0, f64::max);
+    (last, moved)
+}
+
+#[test]
+fn history_model_with_balancing_is_bit_identical_on_4_6_8_ranks() {
+    // The Cundall-Strack drum with the slab boundaries moving every 0.02 rotations:
+    // particles and their loaded contact histories migrate to whichever rank now owns them.
+    let dir = tmpdir();
+    let extra = ["--set", "run.balance_every=0.02"];
+    for other in assert_identical_with("sd_capped.toml", &[4, 6, 8], &extra, &dir) {
+        assert!(
+            other.histories_migrated > 100,
+            "on {} ranks only {} contact histories moved with migrating particles",
+            other.ranks,
+            other.histories_migrated
+        );
+    }
+    for ranks in [4, 6, 8] {
+        let (bounds, moved) = moved_bounds(dir.path(), "sd_capped.toml", ranks);
+        assert!(
+            moved > 0.05,
+            "{ranks} ranks: the boundaries stayed where equal slabs put them: {bounds:?}"
+        );
+    }
+}
+
+#[test]
+fn spherical_tumbler_with_balancing_is_bit_identical_on_4_6_8_ranks() {
+    // In a sphere the end slabs hold few particles: balancing widens them and narrows the
+    // middle ones, never below the interaction range + skin.
+    let dir = tmpdir();
+    let extra = ["--set", "run.balance_every=0.01"];
+    assert_identical_with("sphere.toml", &[4, 6, 8], &extra, &dir);
+    for ranks in [4, 6, 8] {
+        let (bounds, moved) = moved_bounds(dir.path(), "sphere.toml", ranks);
+        assert!(
+            moved > 0.05,
+            "{ranks} ranks: the boundaries stayed where equal slabs put them: {bounds:?}"
+        );
+    }
+}
+
+#[test]
+fn rough_wall_drum_with_balancing_is_bit_identical_on_2_and_3_ranks() {
+    // 3 ranks is as many slabs as this short drum can be cut into.
+    let dir = tmpdir();
+    let extra = ["--set", "run.balance_every=0.02"];
+    assert_identical_with("rough.toml", &[2, 3], &extra, &dir);
 }
 
 #[test]
