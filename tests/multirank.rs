@@ -201,6 +201,21 @@ fn history_model_with_balancing_is_bit_identical_on_4_6_8_ranks() {
 }
 
 #[test]
+fn periodic_history_drum_with_balancing_is_bit_identical_on_1_2_3_4_6_8_ranks() {
+    // Histories across the periodic seam as well as the slab faces, boundaries moving.
+    let dir = tmpdir();
+    let extra = ["--set", "run.balance_every=0.02"];
+    for other in assert_identical_with("sd_periodic.toml", &[2, 3, 4, 6, 8], &extra, &dir) {
+        assert!(
+            other.histories_migrated > 100,
+            "on {} ranks only {} contact histories moved with migrating particles",
+            other.ranks,
+            other.histories_migrated
+        );
+    }
+}
+
+#[test]
 fn spherical_tumbler_with_balancing_is_bit_identical_on_4_6_8_ranks() {
     // In a sphere the end slabs hold few particles: balancing widens them and narrows the
     // middle ones, never below the interaction range + skin.

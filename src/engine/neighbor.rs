@@ -1,7 +1,8 @@
 //! Cell lists and a Verlet half list of pairs in a canonical order.
 //!
 //! Each pair is stored once per rank as `(a, b)` local indices with `id[a] < id[b]`, and the
-//! list is sorted by `(id[a], id[b])`. Accumulating pair forces in list order then adds every
+//! list is sorted by `(id[a], id[b])` (except where a rank holds a particle and its own
+//! periodic image: each copy's block of pairs then follows the other). Accumulating pair forces in list order then adds every
 //! particle's contributions in increasing order of its partners' ids, whatever the slab layout:
 //! the key to bit-identical states on any number of ranks.
 //!
@@ -231,26 +232,34 @@ impl NeighborList {
         self.hist.resize(self.pairs.len(), [0.0; 3]);
     }
 
-    /// The histories of the contacts in force, sorted by ids (the list's own order).
+    /// The histories of the contacts in force, sorted by ids, each contact once.
+    ///
+    /// With periodic ends a rank may hold a particle and its own image: a contact across the
+    /// ends is then listed twice, as (owned, image) and (image, owned), after the blocks of
+    /// pairs of each copy, so the list is not sorted by ids there. Both copies evaluate the
+    /// minimum image of the same raw coordinates and keep the same history, bit for bit.
     pub fn save_histories(&self, p: &Particles) -> SavedHistory {
-        self.pairs
+        let mut saved: SavedHistory = self
+            .pairs
             .iter()
             .zip(&self.hist)
             .filter(|(_, h)| **h != [0.0; 3])
             .map(|(&(a, b), h)| (p.id[a as usize], p.id[b as usize], *h))
-            .collect()
+            .collect();
+        saved.sort_unstable_by_key(|x| (x.0, x.1));
+        saved.dedup_by_key(|x| (x.0, x.1));
+        saved
     }
 
-    /// Give each pair of a freshly built list its saved history (sorted as the list is);
-    /// saved contacts without a pair here are dropped.
+    /// Give each pair of a freshly built list its saved history (`saved` sorted by ids, each
+    /// contact once); saved contacts without a pair here are dropped.
     pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {
-        let mut k = 0;
+        if saved.is_empty() {
+            return;
+        }
         for (pair, h) in self.pairs.iter().zip(self.hist.iter_mut()) {
             let key = (p.id[pair.0 as usize], p.id[pair.1 as usize]);
-            while k < saved.len() && (saved[k].0, saved[k].1) < key {
-                k += 1;
-            }
-            if k < saved.len() && (saved[k].0, saved[k].1) == key {
+            if let Ok(k) = saved.binary_search_by_key(&key, |x| (x.0, x.1)) {
                 *h = saved[k].2;
             }
         }
