@@ -15,10 +15,10 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 pub const STEPS_MAX: f64 = 1e12;
 
 /// Most memory the initial state may take on one rank, in bytes (the whole initial state is
-/// made on every rank from the seed before the slabs take their shares): 32 GiB, about
-/// 6.5e7 particles at `report::BYTES_PER_PARTICLE` each. Checked on the estimate of
+/// made on every rank from the seed before the slabs take their shares): 16 GiB, about
+/// 3.3e7 particles at `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4). Checked on the estimate of
 /// [`estimated_particles`] before anything is allocated.
-pub const INITIAL_MEMORY_MAX: f64 = 32.0 * (1u64 << 30) as f64;
+pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
 
 /// Most samples (of the axial profiles, diagnostics, paths, snapshots) or checkpoints a run
 /// may write: an interval so short that more are asked for fills the disk.
