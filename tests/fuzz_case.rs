@@ -201,7 +201,10 @@ fn random_overrides_of_every_key_are_accepted_or_refused_never_a_panic() {
         .unwrap();
     let (accepted, refused) = (accepted.get(), refused.get());
     println!("{accepted} accepted, {refused} refused");
-    assert!(refused > 0 && accepted > 0, "{accepted} accepted, {refused} refused");
+    assert!(
+        refused > 0 && accepted > 0,
+        "{accepted} accepted, {refused} refused"
+    );
 }
 
 #[test]

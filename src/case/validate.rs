@@ -24,6 +24,9 @@ pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
 /// may write: an interval so short that more are asked for fills the disk.
 pub const SAMPLES_MAX: f64 = 1e7;
 
+/// Most axial slices of the profiles (`drum length / output.slice_width`).
+pub const SLICES_MAX: f64 = 1e6;
+
 struct Checker {
     errs: Vec<CaseError>,
     /// Keys already refused as not finite: no second message for them.
@@ -787,8 +790,58 @@ fn size_checks(case: &Case, c: &mut Checker) {
         );
         return;
     }
+    // what moves a particle far in a step: a fall across the drum, the initial speed
+    let d_min = case
+        .species
+        .iter()
+        .map(law::smallest_diameter)
+        .fold(f64::MAX, f64::min);
+    let fall = (2.0 * case.model.gravity * case.drum.diameter).sqrt() * dt;
+    if !(fall <= 0.5 * d_min) {
+        c.bad(
+            "model.gravity",
+            format!(
+                "{}: a particle falling across the drum moves {} in a step of {}, more than half the smallest diameter {}; lower gravity or dt",
+                given(case.model.gravity),
+                derived(fall),
+                given(dt),
+                given(d_min)
+            ),
+        );
+    }
+    if case.init.kind == InitKind::Lattice && !(case.init.speed * dt <= 0.5 * d_min) {
+        c.bad(
+            "init.speed",
+            format!(
+                "{}: a particle moves {} in a step of {}, more than half the smallest diameter {}; lower the speed or dt",
+                given(case.init.speed),
+                derived(case.init.speed * dt),
+                given(dt),
+                given(d_min)
+            ),
+        );
+    }
+    let slices = case.drum.axial_length() / case.slice_width();
+    if !(slices <= SLICES_MAX) {
+        c.bad(
+            "output.slice_width",
+            format!(
+                "{} cuts the drum (length {}) into {} axial slices; at most {SLICES_MAX:e} are accepted",
+                given(case.slice_width()),
+                given(case.drum.axial_length()),
+                derived(slices)
+            ),
+        );
+    }
     let n = estimated_particles(case);
     let bytes = n * crate::report::BYTES_PER_PARTICLE as f64;
+    let gib = |b: f64| {
+        if b.is_finite() {
+            format!("{:.0} GiB", b / (1u64 << 30) as f64)
+        } else {
+            "more than 1e299 GiB".into()
+        }
+    };
     if !(bytes <= INITIAL_MEMORY_MAX) {
         c.bad(
             match case.init.kind {
@@ -797,9 +850,9 @@ fn size_checks(case: &Case, c: &mut Checker) {
                 InitKind::Particles => "init.particle",
             },
             format!(
-                "the initial state would hold about {} particles ({:.0} GiB on every rank, which makes it whole before the slabs take their shares); at most {:.0} GiB ({:.2e} particles) is accepted: a smaller drum, fill or density, or larger particles",
-                derived(n),
-                bytes / (1u64 << 30) as f64,
+                "the initial state would hold {} particles ({} on every rank, which makes it whole before the slabs take their shares); at most {:.0} GiB ({:.2e} particles) is accepted: a smaller drum, fill or density, or larger particles",
+                if n.is_finite() { format!("about {}", derived(n)) } else { derived(n) },
+                gib(bytes),
                 INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
                 INITIAL_MEMORY_MAX / crate::report::BYTES_PER_PARTICLE as f64
             ),
