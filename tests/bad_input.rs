@@ -624,13 +624,22 @@ fn particle_file(path: &std::path::Path, d: &[f64], x: &[[f64; 3]], v: &[[f64; 3
         .unwrap();
 }
 
+/// A particle file's name, diameters, positions, velocities and the refusal it gets.
+type BadFile = (
+    &'static str,
+    [f64; 2],
+    [[f64; 3]; 2],
+    [[f64; 3]; 2],
+    &'static str,
+);
+
 #[test]
 fn unusable_particles_in_a_file_are_refused_naming_them() {
     let dir = tmpdir();
     let ok = [0.0, -0.005, 0.0];
     let x = [[0.0, 0.0, 0.0], ok];
     let still = [[0.0; 3]; 2];
-    let cases: [(&str, [f64; 2], [[f64; 3]; 2], [[f64; 3]; 2], &str); 5] = [
+    let cases: [BadFile; 5] = [
         (
             "inf_v",
             [0.002, 0.002],

@@ -321,7 +321,9 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 );
             }
             let most = (d.axial_length() / case.d_max()).floor();
-            if i.arrangement == Arrangement::Segregated && i.bands >= 2 && !(i.bands as f64 <= most)
+            if i.arrangement == Arrangement::Segregated
+                && i.bands >= 2
+                && !at_most(i.bands as f64, most)
             {
                 c.bad(
                     "init.bands",
@@ -763,7 +765,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
     let dt = case.dt();
     let omega = case.drum.omega.abs();
     let per_rotation = 2.0 * std::f64::consts::PI / (omega * dt);
-    if !(per_rotation >= STEPS_PER_ROTATION_MIN) {
+    if !at_most(STEPS_PER_ROTATION_MIN, per_rotation) {
         c.bad(
             "drum.omega",
             format!(
@@ -777,7 +779,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
         return;
     }
     let steps = case.run.rotations * per_rotation;
-    if !(steps <= STEPS_MAX) {
+    if !at_most(steps, STEPS_MAX) {
         c.bad(
             "run.rotations",
             format!(
@@ -797,7 +799,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
         .map(law::smallest_diameter)
         .fold(f64::MAX, f64::min);
     let fall = (2.0 * case.model.gravity * case.drum.diameter).sqrt() * dt;
-    if !(fall <= 0.5 * d_min) {
+    if !at_most(fall, 0.5 * d_min) {
         c.bad(
             "model.gravity",
             format!(
@@ -809,7 +811,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
             ),
         );
     }
-    if case.init.kind == InitKind::Lattice && !(case.init.speed * dt <= 0.5 * d_min) {
+    if case.init.kind == InitKind::Lattice && !at_most(case.init.speed * dt, 0.5 * d_min) {
         c.bad(
             "init.speed",
             format!(
@@ -822,7 +824,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
         );
     }
     let slices = case.drum.axial_length() / case.slice_width();
-    if !(slices <= SLICES_MAX) {
+    if !at_most(slices, SLICES_MAX) {
         c.bad(
             "output.slice_width",
             format!(
@@ -842,7 +844,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
             "more than 1e299 GiB".into()
         }
     };
-    if !(bytes <= INITIAL_MEMORY_MAX) {
+    if !at_most(bytes, INITIAL_MEMORY_MAX) {
         c.bad(
             match case.init.kind {
                 InitKind::Lattice => "init.density",
@@ -869,7 +871,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
     ] {
         let Some(every) = every else { continue };
         let count = case.run.rotations / every;
-        if !(count <= SAMPLES_MAX) {
+        if !at_most(count, SAMPLES_MAX) {
             c.bad(
                 key,
                 format!(
@@ -901,4 +903,9 @@ fn derived(x: f64) -> String {
     } else {
         format!("{x:.3e}")
     }
+}
+
+/// `x <= max`, false when either is NaN.
+fn at_most(x: f64, max: f64) -> bool {
+    x <= max
 }
