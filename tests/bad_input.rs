@@ -508,7 +508,7 @@ fn a_fall_or_a_start_too_fast_for_the_step_is_refused() {
         &m,
         &[
             "init.speed: 1000000: a particle moves 5000.00 in a step of 0.005",
-            "more than half",
+            "more than the drum's radius 5",
         ],
     );
 }
