@@ -384,7 +384,7 @@ fn main() -> ExitCode {
             list,
         } => validate(tier, only, out, reuse, list),
         Command::Check { case, set, ranks } => match load_case(&case, &set) {
-            Ok(lc) => match tumbler::report::check_report(&lc.case, ranks.max(1)) {
+            Ok(lc) => match tumbler::report::check_report(&lc.case, ranks) {
                 Ok(text) => {
                     print!("{text}");
                     ExitCode::SUCCESS

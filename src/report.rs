@@ -25,8 +25,20 @@ pub fn duration(secs: f64) -> String {
 /// The derived quantities of a case, as `tumbler check` prints them; `ranks` sizes the slabs.
 pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let mut out = String::new();
-    let (initial, _) = initial_particles(case)?;
+    if ranks == 0 {
+        return Err("--ranks: at least 1 rank is needed, got 0".into());
+    }
+    let reach = law::reach(case);
     let length = case.drum.axial_length();
+    let slab = length / ranks as f64;
+    if slab < reach {
+        return Err(format!(
+            "--ranks {ranks}: {ranks} ranks cut the drum (length {length}) into slabs {slab:.3} long, thinner than the \
+             interaction range + skin {reach:.3}; use at most {} ranks",
+            ((length / reach).floor() as usize).max(1)
+        ));
+    }
+    let (initial, _) = initial_particles(case)?;
     let radius = 0.5 * case.drum.diameter;
     let mut per_species = vec![0usize; case.species.len()];
     for p in &initial {
@@ -46,8 +58,6 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let limits = law::step_limits(case);
     let froude =
         case.drum.omega * case.drum.omega * radius / case.model.gravity.max(f64::MIN_POSITIVE);
-    let reach = law::reach(case);
-    let slab = length / ranks as f64;
     let ghosts_per_rank = if ranks > 1 || case.drum.periodic() {
         2.0 * reach / length * n as f64
     } else {
@@ -126,8 +136,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let _ = writeln!(out, "Froude number  {froude:.4} (omega^2 R / g)");
     let _ = writeln!(
         out,
-        "ranks          {ranks}: slabs {slab:.4} long (at least {reach:.4} needed{})",
-        if slab < reach { " -- TOO THIN" } else { "" }
+        "ranks          {ranks}: slabs {slab:.4} long (at least {reach:.4} needed)"
     );
     let _ = writeln!(
         out,

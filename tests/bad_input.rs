@@ -355,3 +355,390 @@ fn impossible_diagnostics_settings_are_refused() {
     let m = with("diagnostics.snapshots.every=0.0");
     expect(&m, &["diagnostics.snapshots.every", "must be positive"]);
 }
+
+/// The refusals of `key_value` on the test case `file`.
+fn with_on(file: &str, overrides: &[&str]) -> String {
+    let text = std::fs::read_to_string(case_path(file)).unwrap();
+    let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    match tumbler::case::load_text(&text, &ov, file) {
+        Ok(_) => panic!("{overrides:?} on {file} was accepted"),
+        Err(errs) => errs
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("\n"),
+    }
+}
+
+#[test]
+fn non_finite_values_are_refused_naming_the_key() {
+    let m = with("model.gamma_n=nan");
+    expect(&m, &["model.gamma_n: must be a finite number, got nan"]);
+    let m = with("species.1.gamma_s=nan");
+    expect(&m, &["species.1.gamma_s: must be a finite number, got nan"]);
+    let m = with("init.density=inf");
+    expect(&m, &["init.density: must be a finite number, got inf"]);
+    // once, not again as "must be positive"
+    assert_eq!(m.lines().count(), 1, "{m}");
+    for key in ["model.restitution", "model.collision_time", "init.fill"] {
+        let m = with_on("sd_capped.toml", &[&format!("{key}=nan")]);
+        expect(&m, &[&format!("{key}: must be a finite number, got nan")]);
+    }
+    // in a key the model does not use, and in an array
+    let m = with("init.fill=-inf");
+    expect(&m, &["init.fill: must be a finite number, got -inf"]);
+    let m = with("diagnostics.paths.regions=[{ min = [nan, 0.0, 0.0], max = [1.0, 1.0, 1.0] }]");
+    expect(
+        &m,
+        &["diagnostics.paths.regions.0.min: entry 0 must be a finite number, got nan"],
+    );
+    // several at once
+    let m = with_on(
+        "sd_capped.toml",
+        &["model.restitution=nan", "init.fill=nan", "drum.omega=inf"],
+    );
+    expect(&m, &["model.restitution", "init.fill", "drum.omega"]);
+}
+
+#[test]
+fn too_few_steps_per_rotation_are_refused() {
+    for omega in ["1000.0", "1e300", "-1000.0"] {
+        let m = with(&format!("drum.omega={omega}"));
+        expect(
+            &m,
+            &[
+                "drum.omega",
+                "time steps of dt = 0.005",
+                "at least 20 steps per rotation are needed",
+                "|omega| must be at most 62.83",
+            ],
+        );
+    }
+}
+
+#[test]
+fn a_step_count_that_does_not_fit_is_refused() {
+    let m = with_on("periodic.toml", &["run.dt=1e-300", "run.rotations=1e30"]);
+    expect(
+        &m,
+        &[
+            "run.rotations: 1e30 rotations of",
+            "time steps; at most 1e12 are accepted",
+        ],
+    );
+    let m = with("run.rotations=1e12");
+    expect(
+        &m,
+        &["run.rotations", "2.513e15 time steps", "at most 1e12"],
+    );
+}
+
+#[test]
+fn a_huge_initial_state_is_refused_before_it_is_built() {
+    // 1.4e8 lattice sites: refused at once by check and run, nothing allocated
+    let m = with("drum.length=1e7");
+    expect(
+        &m,
+        &[
+            "init.density: the initial state would hold about 1.361e8 particles",
+            "at most 16 GiB",
+        ],
+    );
+    let m = with_on("sphere.toml", &["drum.diameter=3.0"]);
+    expect(&m, &["init.fill: the initial state would hold", "GiB"]);
+    let m = with_on("rough.toml", &["drum.rough_wall.diameter=1e-7"]);
+    expect(&m, &["the initial state would hold"]);
+    let dir = tmpdir();
+    let case = case_path("periodic.toml");
+    let out = dir.path().join("o.h5");
+    let t = std::time::Instant::now();
+    for args in [
+        vec!["check", case.to_str().unwrap(), "--set", "drum.length=1e7"],
+        vec![
+            "run",
+            case.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "drum.length=1e7",
+        ],
+    ] {
+        let o = tumbler(&args);
+        assert_eq!(o.status.code(), Some(2));
+        expect(
+            &String::from_utf8_lossy(&o.stderr),
+            &["init.density: the initial state would hold", "particles"],
+        );
+    }
+    assert!(t.elapsed().as_secs_f64() < 10.0, "{:?}", t.elapsed());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn too_many_records_or_slices_are_refused() {
+    let m = with("output.sample_every=1e-9");
+    expect(
+        &m,
+        &[
+            "output.sample_every: every 1e-9 rotations over 2 rotations is 2.000e9 records",
+            "at most 1e7",
+        ],
+    );
+    let m = with("diagnostics.snapshots.every=1e-9");
+    expect(&m, &["diagnostics.snapshots.every", "records"]);
+    let m = with("output.slice_width=1e-300");
+    expect(
+        &m,
+        &["output.slice_width: 1e-300 cuts the drum (length 24) into 2.400e301 axial slices; at most 1e6"],
+    );
+}
+
+#[test]
+fn a_fall_or_a_start_too_fast_for_the_step_is_refused() {
+    let m = with("model.gravity=1e300");
+    expect(
+        &m,
+        &[
+            "model.gravity: 1e300: a particle falling across the drum moves",
+            "more than half the smallest diameter",
+        ],
+    );
+    let m = with("init.speed=1e6");
+    expect(
+        &m,
+        &[
+            "init.speed: 1000000: a particle moves 5000.00 in a step of 0.005",
+            "more than the drum's radius 5",
+        ],
+    );
+}
+
+#[test]
+fn more_bands_than_fit_are_refused() {
+    let m = with_on(
+        "periodic.toml",
+        &[
+            "init.arrangement=\"segregated\"",
+            "init.bands=1000000000000",
+        ],
+    );
+    expect(
+        &m,
+        &["init.bands: 1000000000000 bands of a drum 24 long are thinner than the largest diameter", "at most 18 fit"],
+    );
+}
+
+#[test]
+fn check_refuses_ranks_that_do_not_fit_and_zero_ranks() {
+    let case = case_path("periodic.toml");
+    let c = parse_case(&base(), "x").unwrap();
+    let fit = (c.drum.axial_length() / tumbler::physics::law::reach(&c)).floor() as usize;
+    let o = tumbler(&["check", case.to_str().unwrap(), "--ranks", &fit.to_string()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = tumbler(&[
+        "check",
+        case.to_str().unwrap(),
+        "--ranks",
+        &(fit + 1).to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let most = format!("use at most {fit} ranks");
+    expect(
+        &String::from_utf8_lossy(&o.stderr),
+        &["--ranks", "thinner than the interaction range", &most],
+    );
+    let o = tumbler(&["check", case.to_str().unwrap(), "--ranks", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    expect(
+        &String::from_utf8_lossy(&o.stderr),
+        &["--ranks: at least 1 rank is needed, got 0"],
+    );
+}
+
+#[test]
+fn a_bad_set_value_is_named_as_the_set() {
+    let case = case_path("periodic.toml");
+    let check = |set: &str| {
+        let o = tumbler(&["check", case.to_str().unwrap(), "--set", set]);
+        assert_eq!(o.status.code(), Some(2), "{set}");
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let m = check("drum.omega=nan");
+    expect(&m, &["--set drum.omega: must be a finite number, got nan"]);
+    let m = check("drum.diameter=\"wide\"");
+    expect(
+        &m,
+        &["--set drum.diameter: invalid type: string \"wide\", expected f64"],
+    );
+    assert!(!m.contains("line"), "{m}");
+    let m = check("species.0.diameter=-1.0");
+    expect(&m, &["--set species.0.diameter: must be a positive length"]);
+    // an error of the file itself keeps its line in the file
+    let dir = tmpdir();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        base().replace("diameter = 10.0", "diameter = \"wide\""),
+    )
+    .unwrap();
+    let o = tumbler(&["check", bad.to_str().unwrap(), "--set", "run.rotations=3"]);
+    assert_eq!(o.status.code(), Some(2));
+    expect(
+        &String::from_utf8_lossy(&o.stderr),
+        &["bad.toml line 7", "invalid type"],
+    );
+}
+
+/// A particle file (`/particles` as a run writes it) holding `n` particles.
+fn particle_file(path: &std::path::Path, d: &[f64], x: &[[f64; 3]], v: &[[f64; 3]]) {
+    let f = hdf5::File::create(path).unwrap();
+    let g = f.create_group("particles").unwrap();
+    let n = d.len();
+    let flat = |a: &[[f64; 3]]| a.iter().flatten().copied().collect::<Vec<f64>>();
+    let id: Vec<u64> = (0..n as u64).collect();
+    g.new_dataset_builder().with_data(&id).create("id").unwrap();
+    g.new_dataset_builder()
+        .with_data(&vec![0u8; n])
+        .create("species")
+        .unwrap();
+    g.new_dataset_builder()
+        .with_data(d)
+        .create("diameter")
+        .unwrap();
+    g.new_dataset_builder()
+        .with_data(&flat(x))
+        .create("position")
+        .unwrap();
+    g.new_dataset_builder()
+        .with_data(&flat(v))
+        .create("velocity")
+        .unwrap();
+    g.new_dataset_builder()
+        .with_data(&vec![0.0; 3 * n])
+        .create("angular_velocity")
+        .unwrap();
+}
+
+/// A particle file's name, diameters, positions, velocities and the refusal it gets.
+type BadFile = (
+    &'static str,
+    [f64; 2],
+    [[f64; 3]; 2],
+    [[f64; 3]; 2],
+    &'static str,
+);
+
+#[test]
+fn unusable_particles_in_a_file_are_refused_naming_them() {
+    let dir = tmpdir();
+    let ok = [0.0, -0.005, 0.0];
+    let x = [[0.0, 0.0, 0.0], ok];
+    let still = [[0.0; 3]; 2];
+    let cases: [BadFile; 5] = [
+        (
+            "inf_v",
+            [0.002, 0.002],
+            x,
+            [[0.0; 3], [f64::INFINITY, 0.0, 0.0]],
+            "init: particle 1 has velocity (inf, 0, 0): every component must be a finite number",
+        ),
+        (
+            "nan_x",
+            [0.002, 0.002],
+            [[f64::NAN, 0.0, 0.0], ok],
+            still,
+            "init: particle 0 has position (NaN, 0, 0): every component must be a finite number",
+        ),
+        (
+            "zero_d",
+            [0.0, 0.002],
+            x,
+            still,
+            "init: particle 0 has diameter 0: it must be a positive length",
+        ),
+        (
+            "negative_d",
+            [0.002, -0.002],
+            x,
+            still,
+            "init: particle 1 has diameter -0.002: it must be a positive length",
+        ),
+        (
+            "both",
+            [-1.0, f64::NAN],
+            x,
+            still,
+            "init: particle 0 has diameter -1: it must be a positive length (2 particles of init.file",
+        ),
+    ];
+    let text = std::fs::read_to_string(case_path("sd_capped.toml")).unwrap();
+    for (name, d, x, v, msg) in cases {
+        let file = dir.path().join(format!("{name}.h5"));
+        particle_file(&file, &d, &x, &v);
+        let with_file = text
+            .replace(
+                "kind = \"pour\"",
+                &format!("kind = \"particles\"\nfile = \"{}\"", file.display()),
+            )
+            .replace("fill = 0.3\n", "")
+            .replace("settle_time = 0.2\n", "");
+        let case = parse_case(&with_file, name).unwrap();
+        let e = tumbler::init::initial_particles(&case).unwrap_err();
+        expect(&e, &[msg]);
+        // `tumbler check` refuses it too (exit 2), naming the particle
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, &with_file).unwrap();
+        let o = tumbler(&["check", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{name}");
+        expect(&String::from_utf8_lossy(&o.stderr), &[msg]);
+    }
+}
+
+#[test]
+fn unusable_particle_tables_are_refused_naming_them() {
+    let text = std::fs::read_to_string(case_path("sd_capped.toml"))
+        .unwrap()
+        .replace("kind = \"pour\"", "kind = \"particles\"")
+        .replace("fill = 0.3\n", "")
+        .replace("settle_time = 0.2\n", "");
+    let table = |d: &str, v: &str| {
+        format!("{text}\n[[init.particle]]\nspecies = 0\ndiameter = {d}\nposition = [0.0, 0.0, 0.0]\nvelocity = {v}\n")
+    };
+    let refused = |t: String| {
+        parse_case(&t, "t")
+            .unwrap_err()
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    expect(
+        &refused(table("0.002", "[inf, 0.0, 0.0]")),
+        &["init.particle.0.velocity: entry 0 must be a finite number, got inf"],
+    );
+    expect(
+        &refused(table("0.0", "[0.0, 0.0, 0.0]")),
+        &["init.particle.0.diameter: must be positive, got 0"],
+    );
+}
+
+#[test]
+fn inconsistent_species_and_particle_sources_are_refused() {
+    let m = with_on("sd_capped.toml", &["species.0.volume_fraction=0.7"]);
+    expect(
+        &m,
+        &["species.N.volume_fraction", "adding up to 1 (got 1.2"],
+    );
+    let m = with("species.0.diameter_sd=0.1");
+    expect(&m, &["species.0.diameter_sd: choose either diameter_sd (normal) or diameter_spread (uniform)"]);
+    let m = with_on("sd_capped.toml", &["init.kind=\"particles\""]);
+    expect(
+        &m,
+        &["init.file: give either init.file or [[init.particle]] tables, not both or neither"],
+    );
+}

@@ -144,7 +144,11 @@ fn carried(ends: &str, omega: f64) -> (f64, f64) {
     } else {
         "capped.toml"
     };
-    let case = case_with(file, &[&format!("drum.omega={omega}")]);
+    // a short run keeps the step count bounded when the drum all but stands still
+    let case = case_with(
+        file,
+        &[&format!("drum.omega={omega}"), "run.rotations=1e-6"],
+    );
     let radius = 0.5 * case.drum.diameter;
     let a = ball(0, 1.0, [0.0, -(radius - 1.0), 0.0], [0.0; 3]);
     let comm = SerialComm;

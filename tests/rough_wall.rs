@@ -65,6 +65,8 @@ fn wall_particles_have_infinite_mass() {
         &[
             "model.gravity=0.0",
             "drum.omega=1e-9",
+            // a drum that all but stands still: a short run keeps the step count bounded
+            "run.rotations=1e-6",
             "model.restitution=0.9",
         ],
     );

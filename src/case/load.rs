@@ -54,13 +54,83 @@ pub fn load_case(path: &Path, overrides: &[String]) -> Result<LoadedCase, Vec<Ca
             format!("cannot read the case file: {e}"),
         )]
     })?;
-    let text = apply_overrides(&text, overrides, &name).map_err(|e| vec![e])?;
-    let case = parse_case(&text, &name)?;
+    load_text(&text, overrides, &name)
+}
+
+/// Override, parse and validate case text read from `name`: what [`load_case`] does once the
+/// file is read. A refusal caused by a `--set` names the `--set` (`--set drum.omega: ...`),
+/// not the key or a line of the file.
+pub fn load_text(
+    text: &str,
+    overrides: &[String],
+    name: &str,
+) -> Result<LoadedCase, Vec<CaseError>> {
+    let effective = apply_overrides(text, overrides, name).map_err(|e| vec![e])?;
+    let case: Case = match toml::from_str(&effective) {
+        Ok(case) => case,
+        Err(e) => {
+            return Err(vec![attribute_toml_error(
+                &e, text, &effective, overrides, name,
+            )])
+        }
+    };
+    if let Err(errs) = validate(&case) {
+        let keys: Vec<&str> = overrides
+            .iter()
+            .filter_map(|o| o.split_once('=').map(|(k, _)| k.trim()))
+            .collect();
+        return Err(errs
+            .into_iter()
+            .map(|e| {
+                if keys.contains(&e.key.as_str()) {
+                    CaseError::new(format!("--set {}", e.key), e.why)
+                } else {
+                    e
+                }
+            })
+            .collect());
+    }
     Ok(LoadedCase {
         case,
-        text,
-        path: name,
+        text: effective,
+        path: name.to_string(),
     })
+}
+
+/// A TOML/serde error of the overridden text: the file's own (with its line in the file) when
+/// the file alone gives it, else the first `--set` that brings it.
+fn attribute_toml_error(
+    e: &toml::de::Error,
+    text: &str,
+    effective: &str,
+    overrides: &[String],
+    name: &str,
+) -> CaseError {
+    if overrides.is_empty() {
+        return describe_toml_error(e, text, name);
+    }
+    let same = |t: &str| match toml::from_str::<Case>(t) {
+        Err(f) => f.message() == e.message(),
+        Ok(_) => false,
+    };
+    if same(text) {
+        let e0 = toml::from_str::<Case>(text).err();
+        return describe_toml_error(e0.as_ref().unwrap_or(e), text, name);
+    }
+    for k in 1..=overrides.len() {
+        let Ok(t) = apply_overrides(text, &overrides[..k], name) else {
+            break;
+        };
+        if same(&t) {
+            let key = overrides[k - 1]
+                .split_once('=')
+                .map_or(overrides[k - 1].as_str(), |(k, _)| k.trim());
+            return CaseError::new(format!("--set {key}"), e.message().trim().to_string());
+        }
+    }
+    let mut err = describe_toml_error(e, effective, name);
+    err.key.push_str(" (with the --set values applied)");
+    err
 }
 
 /// Parse and validate case text; `name` labels syntax errors.
@@ -130,7 +200,10 @@ fn set_in_table(table: &mut dyn TableLike, parts: &[&str], value: Value) -> Resu
     if table.get(head).is_none() {
         table.insert(head, Item::Table(toml_edit::Table::new()));
     }
-    match table.get_mut(head).expect("present") {
+    let Some(item) = table.get_mut(head) else {
+        return Err(format!("`{head}` cannot be made a table"));
+    };
+    match item {
         Item::Table(t) => set_in_table(t, rest, value),
         Item::Value(Value::InlineTable(t)) => set_in_table(t, rest, value),
         Item::ArrayOfTables(arr) => {

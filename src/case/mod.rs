@@ -4,6 +4,9 @@ mod load;
 mod schema;
 mod validate;
 
-pub use load::{apply_overrides, load_case, parse_case, CaseError, LoadedCase};
+pub use load::{apply_overrides, load_case, load_text, parse_case, CaseError, LoadedCase};
 pub use schema::*;
-pub use validate::validate;
+pub use validate::{
+    estimated_particles, validate, INITIAL_MEMORY_MAX, SAMPLES_MAX, STEPS_MAX,
+    STEPS_PER_ROTATION_MIN,
+};

@@ -5,12 +5,39 @@ use super::load::CaseError;
 use super::schema::{Arrangement, Case, Ends, Family, InitKind, Normal, Shape, Tangential};
 use crate::physics::law;
 
+/// Fewest time steps per drum rotation accepted: a wall that turns more than 1/20 of a turn
+/// in a step is not resolved (and the run length, counted in rotations, is then meaningless).
+pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
+
+/// Most time steps a run may have (`run.rotations` rotations of `2 pi / (|omega| dt)` steps):
+/// 10^12 steps is years of computing even for a handful of particles; a longer run is a typo
+/// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
+pub const STEPS_MAX: f64 = 1e12;
+
+/// Most memory the initial state may take on one rank, in bytes (the whole initial state is
+/// made on every rank from the seed before the slabs take their shares): 16 GiB, about
+/// 3.3e7 particles at `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4). Checked on the estimate of
+/// [`estimated_particles`] before anything is allocated.
+pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
+
+/// Most samples (of the axial profiles, diagnostics, paths, snapshots) or checkpoints a run
+/// may write: an interval so short that more are asked for fills the disk.
+pub const SAMPLES_MAX: f64 = 1e7;
+
+/// Most axial slices of the profiles (`drum length / output.slice_width`).
+pub const SLICES_MAX: f64 = 1e6;
+
 struct Checker {
     errs: Vec<CaseError>,
+    /// Keys already refused as not finite: no second message for them.
+    not_finite: Vec<String>,
 }
 
 impl Checker {
     fn bad(&mut self, key: &str, why: String) {
+        if self.not_finite.iter().any(|k| k == key) {
+            return;
+        }
         self.errs.push(CaseError::new(key, why));
     }
     fn positive(&mut self, key: &str, x: f64) {
@@ -25,7 +52,8 @@ impl Checker {
     }
     fn required(&mut self, key: &str, x: Option<f64>, why: &str) -> f64 {
         match x {
-            Some(v) => v,
+            Some(v) if v.is_finite() => v,
+            Some(_) => f64::NAN, // refused by `finite_numbers`
             None => {
                 self.bad(key, format!("is required {why}"));
                 f64::NAN
@@ -41,7 +69,11 @@ impl Checker {
 
 /// Check every value of `case`; return all refusals.
 pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
-    let mut c = Checker { errs: Vec::new() };
+    let mut c = Checker {
+        errs: Vec::new(),
+        not_finite: Vec::new(),
+    };
+    finite_numbers(case, &mut c);
     let d = &case.drum;
     c.positive("drum.diameter", d.diameter);
     match d.shape {
@@ -288,6 +320,21 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                     format!("a segregated start needs at least 2 bands, got {}", i.bands),
                 );
             }
+            let most = (d.axial_length() / case.d_max()).floor();
+            if i.arrangement == Arrangement::Segregated
+                && i.bands >= 2
+                && !at_most(i.bands as f64, most)
+            {
+                c.bad(
+                    "init.bands",
+                    format!(
+                        "{} bands of a drum {} long are thinner than the largest diameter {}; at most {most} fit",
+                        i.bands,
+                        d.axial_length(),
+                        case.d_max()
+                    ),
+                );
+            }
             c.non_negative("init.speed", i.speed);
             if !(i.wall_gap.is_finite() && i.wall_gap >= 0.0 && i.wall_gap < 0.5 * d.diameter) {
                 c.bad(
@@ -408,6 +455,9 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
 
     if c.errs.is_empty() {
         cross_checks(case, &mut c);
+    }
+    if c.errs.is_empty() {
+        size_checks(case, &mut c);
     }
     if c.errs.is_empty() {
         Ok(())
@@ -601,4 +651,263 @@ fn check_diagnostics(case: &Case, c: &mut Checker) {
     if let Some(e) = g.snapshots.every {
         c.positive("diagnostics.snapshots.every", e);
     }
+}
+
+/// Every number of the case, wherever it is (used by the chosen model or not), must be
+/// finite: NaN and infinities are refused naming the key, before any other check.
+fn finite_numbers(case: &Case, c: &mut Checker) {
+    fn walk(key: &str, v: &toml::Value, c: &mut Checker) {
+        match v {
+            toml::Value::Float(x) if !x.is_finite() => {
+                c.errs.push(CaseError::new(
+                    key,
+                    format!("must be a finite number, got {}", number(*x)),
+                ));
+                c.not_finite.push(key.to_string());
+            }
+            toml::Value::Table(t) => {
+                for (k, v) in t {
+                    let sub = if key.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{key}.{k}")
+                    };
+                    walk(&sub, v, c);
+                }
+            }
+            toml::Value::Array(a) => {
+                let tables = a.iter().all(|v| v.is_table());
+                for (k, v) in a.iter().enumerate() {
+                    if tables {
+                        walk(&format!("{key}.{k}"), v, c);
+                    } else if let toml::Value::Float(x) = v {
+                        if !x.is_finite() {
+                            c.errs.push(CaseError::new(
+                                key,
+                                format!("entry {k} must be a finite number, got {}", number(*x)),
+                            ));
+                            c.not_finite.push(key.to_string());
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    match toml::Value::try_from(case) {
+        Ok(v) => walk("", &v, c),
+        // the case came from TOML, so it goes back to TOML; refuse rather than skip if not
+        Err(e) => c.bad("case", format!("cannot be checked: {e}")),
+    }
+}
+
+/// `nan`, `inf` and `-inf` as TOML writes them.
+fn number(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x > 0.0 {
+        "inf".into()
+    } else {
+        "-inf".into()
+    }
+}
+
+/// An estimate of the number of particles of the initial state, made from the case alone
+/// (nothing is allocated): the lattice sites of the fill volume, the poured points, the
+/// explicit particles given in the case, plus the particles of a rough wall. A particle file
+/// counts as 0 here: its size is known when it is read.
+pub fn estimated_particles(case: &Case) -> f64 {
+    let d = &case.drum;
+    let radius = 0.5 * d.diameter;
+    let length = d.axial_length();
+    let inner = match case.init.kind {
+        InitKind::Lattice => {
+            let gap = case.init.wall_gap;
+            let r = (radius - gap).max(0.0);
+            let l = if d.ends == Some(Ends::Capped) {
+                (length - 2.0 * gap).max(0.0)
+            } else {
+                length
+            };
+            case.init.density.unwrap_or(0.0) * std::f64::consts::PI * r * r * l
+        }
+        InitKind::Pour => {
+            let solid = case.init.fill.unwrap_or(0.0)
+                * d.volume()
+                * crate::init::pour::PACKING
+                * crate::init::pour::OVERFILL;
+            let single = case.species.len() == 1;
+            case.species
+                .iter()
+                .map(|s| {
+                    let share = if single {
+                        1.0
+                    } else {
+                        s.volume_fraction.unwrap_or(0.0)
+                    };
+                    solid * share / (std::f64::consts::PI / 6.0 * crate::init::pour::mean_d3(s))
+                })
+                .sum()
+        }
+        InitKind::Particles => case.init.particle.len() as f64,
+    };
+    let wall = d.rough_wall.as_ref().map_or(0.0, |rw| {
+        (2.0 * std::f64::consts::PI * radius / rw.diameter).max(1.0)
+            * (length / rw.diameter).max(1.0)
+    });
+    inner + wall
+}
+
+/// What the run's size implies: enough steps per rotation, a step count that fits, an
+/// initial state that fits in memory, and a bounded number of samples (checked once every
+/// value is known to be finite and in range).
+fn size_checks(case: &Case, c: &mut Checker) {
+    let dt = case.dt();
+    let omega = case.drum.omega.abs();
+    let per_rotation = 2.0 * std::f64::consts::PI / (omega * dt);
+    if !at_most(STEPS_PER_ROTATION_MIN, per_rotation) {
+        c.bad(
+            "drum.omega",
+            format!(
+                "{} turns the drum in {} time steps of dt = {}; at least {STEPS_PER_ROTATION_MIN} steps per rotation are needed, so |omega| must be at most {} (or dt smaller)",
+                given(case.drum.omega),
+                derived(per_rotation),
+                given(dt),
+                derived(2.0 * std::f64::consts::PI / (STEPS_PER_ROTATION_MIN * dt))
+            ),
+        );
+        return;
+    }
+    let steps = case.run.rotations * per_rotation;
+    if !at_most(steps, STEPS_MAX) {
+        c.bad(
+            "run.rotations",
+            format!(
+                "{} rotations of {} steps (dt = {}) are {} time steps; at most {STEPS_MAX:e} are accepted: fewer rotations or a larger run.dt",
+                given(case.run.rotations),
+                derived(per_rotation),
+                given(dt),
+                derived(steps)
+            ),
+        );
+        return;
+    }
+    // what moves a particle far in a step: a fall across the drum, the initial speed
+    let d_min = case
+        .species
+        .iter()
+        .map(law::smallest_diameter)
+        .fold(f64::MAX, f64::min);
+    let fall = (2.0 * case.model.gravity * case.drum.diameter).sqrt() * dt;
+    if !at_most(fall, 0.5 * d_min) {
+        c.bad(
+            "model.gravity",
+            format!(
+                "{}: a particle falling across the drum moves {} in a step of {}, more than half the smallest diameter {}; lower gravity or dt",
+                given(case.model.gravity),
+                derived(fall),
+                given(dt),
+                given(d_min)
+            ),
+        );
+    }
+    // (a start merely too fast is the health check's: it stops the run naming a particle)
+    let radius = 0.5 * case.drum.diameter;
+    if case.init.kind == InitKind::Lattice && !at_most(case.init.speed * dt, radius) {
+        c.bad(
+            "init.speed",
+            format!(
+                "{}: a particle moves {} in a step of {}, more than the drum's radius {}; lower the speed or dt",
+                given(case.init.speed),
+                derived(case.init.speed * dt),
+                given(dt),
+                given(radius)
+            ),
+        );
+    }
+    let slices = case.drum.axial_length() / case.slice_width();
+    if !at_most(slices, SLICES_MAX) {
+        c.bad(
+            "output.slice_width",
+            format!(
+                "{} cuts the drum (length {}) into {} axial slices; at most {SLICES_MAX:e} are accepted",
+                given(case.slice_width()),
+                given(case.drum.axial_length()),
+                derived(slices)
+            ),
+        );
+    }
+    let n = estimated_particles(case);
+    let bytes = n * crate::report::BYTES_PER_PARTICLE as f64;
+    let gib = |b: f64| {
+        if b.is_finite() {
+            format!("{:.0} GiB", b / (1u64 << 30) as f64)
+        } else {
+            "more than 1e299 GiB".into()
+        }
+    };
+    if !at_most(bytes, INITIAL_MEMORY_MAX) {
+        c.bad(
+            match case.init.kind {
+                InitKind::Lattice => "init.density",
+                InitKind::Pour => "init.fill",
+                InitKind::Particles => "init.particle",
+            },
+            format!(
+                "the initial state would hold {} particles ({} on every rank, which makes it whole before the slabs take their shares); at most {:.0} GiB ({:.2e} particles) is accepted: a smaller drum, fill or density, or larger particles",
+                if n.is_finite() { format!("about {}", derived(n)) } else { derived(n) },
+                gib(bytes),
+                INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
+                INITIAL_MEMORY_MAX / crate::report::BYTES_PER_PARTICLE as f64
+            ),
+        );
+    }
+    let o = &case.output;
+    let g = &case.diagnostics;
+    for (key, every) in [
+        ("output.sample_every", Some(o.sample_every)),
+        ("output.checkpoint_every", o.checkpoint_every),
+        ("diagnostics.sample_every", Some(g.sample_every)),
+        ("diagnostics.paths.every", g.paths.every),
+        ("diagnostics.snapshots.every", g.snapshots.every),
+    ] {
+        let Some(every) = every else { continue };
+        let count = case.run.rotations / every;
+        if !at_most(count, SAMPLES_MAX) {
+            c.bad(
+                key,
+                format!(
+                    "every {} rotations over {} rotations is {} records; at most {SAMPLES_MAX:e} are accepted",
+                    given(every),
+                    given(case.run.rotations),
+                    derived(count)
+                ),
+            );
+        }
+    }
+}
+
+/// A value of the case as given: plain unless very large or small.
+fn given(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e9).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A derived quantity, to four figures.
+fn derived(x: f64) -> String {
+    if !x.is_finite() {
+        "more than 1e308".into()
+    } else if (0.1..1e6).contains(&x.abs()) {
+        format!("{x:.2}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// `x <= max`, false when either is NaN.
+fn at_most(x: f64, max: f64) -> bool {
+    x <= max
 }

@@ -89,6 +89,18 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
             return Err(format!("init: particle id {} appears twice", w[0].id));
         }
     }
+    let source = case.init.file.as_deref().map_or_else(
+        || "[[init.particle]]".to_string(),
+        |f| format!("init.file {f}"),
+    );
+    let unusable: Vec<String> = ps.iter().filter_map(unusable).collect();
+    if let Some(first) = unusable.first() {
+        let more = match unusable.len() {
+            1 => String::new(),
+            n => format!(" ({n} particles of {source} are unusable)"),
+        };
+        return Err(format!("init: {first}{more}"));
+    }
     for p in ps {
         if p.species as usize >= case.species.len() {
             return Err(format!(
@@ -175,4 +187,28 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Why particle `p` cannot start a run: a diameter that is not a positive number, or a
+/// position, velocity or angular velocity that is not finite.
+fn unusable(p: &ParticleState) -> Option<String> {
+    if !(p.diameter.is_finite() && p.diameter > 0.0) {
+        return Some(format!(
+            "particle {} has diameter {}: it must be a positive length",
+            p.id, p.diameter
+        ));
+    }
+    for (what, a) in [
+        ("position", p.x),
+        ("velocity", p.v),
+        ("angular velocity", p.w),
+    ] {
+        if !a.iter().all(|c| c.is_finite()) {
+            return Some(format!(
+                "particle {} has {what} ({}, {}, {}): every component must be a finite number",
+                p.id, a[0], a[1], a[2]
+            ));
+        }
+    }
+    None
 }

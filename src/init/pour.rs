@@ -49,7 +49,7 @@ fn diameter(s: &crate::case::Species, rng: &mut ChaCha8Rng) -> f64 {
 }
 
 /// Mean cube of a species' diameter.
-fn mean_d3(s: &crate::case::Species) -> f64 {
+pub(crate) fn mean_d3(s: &crate::case::Species) -> f64 {
     let d = s.diameter;
     if s.diameter_sd > 0.0 {
         d * d * d * (1.0 + 3.0 * s.diameter_sd * s.diameter_sd)
