@@ -8,7 +8,7 @@
 //!
 //! Tangential histories live beside the pairs, in the pair's canonical orientation. At a
 //! rebuild they are saved as a list sorted by `(id_a, id_b)` ([`SavedHistory`]), travel with
-//! migrating particles, and are re-attached to the new list by one merge of two sorted lists.
+//! migrating particles, and are re-attached to the new list by a binary search per pair.
 
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
