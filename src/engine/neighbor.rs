@@ -8,7 +8,8 @@
 //!
 //! Tangential histories live beside the pairs, in the pair's canonical orientation. At a
 //! rebuild they are saved as a list sorted by `(id_a, id_b)` ([`SavedHistory`]), travel with
-//! migrating particles, and are re-attached to the new list by a binary search per pair.
+//! migrating particles, and are re-attached to the new list by one merge of the two sorted
+//! lists (with a search where the list steps back, see [`NeighborList::save_histories`]).
 
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
@@ -257,9 +258,20 @@ impl NeighborList {
         if saved.is_empty() {
             return;
         }
+        // one merge of two sorted lists, stepping back by a search where the list is not
+        // sorted (the second copy's block of a particle and its own image)
+        let mut k = 0;
+        let mut last = (0, 0);
         for (pair, h) in self.pairs.iter().zip(self.hist.iter_mut()) {
             let key = (p.id[pair.0 as usize], p.id[pair.1 as usize]);
-            if let Ok(k) = saved.binary_search_by_key(&key, |x| (x.0, x.1)) {
+            if key < last {
+                k = saved.partition_point(|x| (x.0, x.1) < key);
+            }
+            last = key;
+            while k < saved.len() && (saved[k].0, saved[k].1) < key {
+                k += 1;
+            }
+            if k < saved.len() && (saved[k].0, saved[k].1) == key {
                 *h = saved[k].2;
             }
         }
