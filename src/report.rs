@@ -28,16 +28,10 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     if ranks == 0 {
         return Err("--ranks: at least 1 rank is needed, got 0".into());
     }
+    crate::engine::sim::slabs_fit(case, ranks).map_err(|e| format!("--ranks {ranks}: {e}"))?;
     let reach = law::reach(case);
     let length = case.drum.axial_length();
     let slab = length / ranks as f64;
-    if slab < reach {
-        return Err(format!(
-            "--ranks {ranks}: {ranks} ranks cut the drum (length {length}) into slabs {slab:.3} long, thinner than the \
-             interaction range + skin {reach:.3}; use at most {} ranks",
-            ((length / reach).floor() as usize).max(1)
-        ));
-    }
     let (initial, _) = initial_particles(case)?;
     let radius = 0.5 * case.drum.diameter;
     let mut per_species = vec![0usize; case.species.len()];

@@ -23,6 +23,22 @@ const BALANCE_BINS_PER_REACH: f64 = 32.0;
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecompositionError(pub String);
 
+/// Refuse cutting the drum of `case` into `ranks` equal slabs thinner than the interaction
+/// range + skin (a ghost must come from a neighbouring slab), saying how many ranks fit.
+pub fn slabs_fit(case: &Case, ranks: usize) -> Result<(), String> {
+    let length = case.drum.axial_length();
+    let width = Slabs::uniform(ranks, length, case.drum.periodic()).min_width();
+    let reach = law::reach(case);
+    if width < reach {
+        return Err(format!(
+            "{ranks} ranks cut the drum (length {length}) into slabs {width:.3} long, thinner \
+             than the interaction range + skin {reach:.3}; use at most {} ranks",
+            ((length / reach).floor() as usize).max(1)
+        ));
+    }
+    Ok(())
+}
+
 impl std::fmt::Display for DecompositionError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.0)
@@ -116,19 +132,9 @@ impl<'c> Sim<'c> {
         let mat = Materials::new(case);
         let periodic = case.drum.periodic();
         let length = case.drum.axial_length();
-        let slabs = Slabs::uniform(comm.size(), length, periodic);
+        slabs_fit(case, comm.size()).map_err(DecompositionError)?;
         let reach = law::reach(case);
-        if slabs.min_width() < reach {
-            return Err(DecompositionError(format!(
-                "{} ranks cut the drum (length {}) into slabs {:.3} long, thinner than the \
-                 interaction range + skin {:.3}; use at most {} ranks",
-                comm.size(),
-                length,
-                slabs.min_width(),
-                reach,
-                ((length / reach).floor() as usize).max(1)
-            )));
-        }
+        let slabs = Slabs::uniform(comm.size(), length, periodic);
         let walls = DrumWalls {
             radius: 0.5 * case.drum.diameter,
             half_length: 0.5 * length,
