@@ -151,7 +151,13 @@ fn history_model_pour_and_drum_are_bit_identical_on_1_2_3_ranks() {
     // Pour fill (grown, settled and cut in the engine), then the turning drum with
     // Cundall-Strack histories: loaded contacts span the slab faces and travel with
     // migrating particles.
-    for other in assert_identical("sd_capped.toml") {
+    assert_histories_migrated(&assert_identical("sd_capped.toml"));
+}
+
+/// Asserts that on every rank count more than 100 contact histories moved with migrating
+/// particles: the runs did test histories crossing slab faces.
+fn assert_histories_migrated(others: &[Snapshot]) {
+    for other in others {
         assert!(
             other.histories_migrated > 100,
             "on {} ranks only {} contact histories moved with migrating particles",
@@ -161,20 +167,25 @@ fn history_model_pour_and_drum_are_bit_identical_on_1_2_3_ranks() {
     }
 }
 
-/// The slab bounds of the last load-balance check of `CASE.RANKS.h5` in `dir`, and how far
-/// the farthest inner boundary lies from where equal slabs would put it, as a share of a slab.
-fn moved_bounds(dir: &Path, case: &str, ranks: usize) -> (Vec<f64>, f64) {
-    let f = hdf5::File::open(dir.join(format!("{case}.{ranks}.h5"))).unwrap();
-    let b = f.dataset("balance/bounds").unwrap();
-    let rows = b.shape()[0];
-    let all: Vec<f64> = b.read_raw().unwrap();
-    let last = all[(rows - 1) * (ranks + 1)..].to_vec();
-    let (lo, hi) = (last[0], last[ranks]);
-    let width = (hi - lo) / ranks as f64;
-    let moved = (1..ranks)
-        .map(|k| ((last[k] - (lo + k as f64 * width)) / width).abs())
-        .fold(0.0, f64::max);
-    (last, moved)
+/// Asserts that by the last load-balance check of `CASE.RANKS.h5` in `dir`, for each of
+/// `rank_counts`, an inner boundary lies more than 5 % of a slab from where equal slabs put it.
+fn assert_boundaries_moved(dir: &Path, case: &str, rank_counts: &[usize]) {
+    for &ranks in rank_counts {
+        let f = hdf5::File::open(dir.join(format!("{case}.{ranks}.h5"))).unwrap();
+        let b = f.dataset("balance/bounds").unwrap();
+        let rows = b.shape()[0];
+        let all: Vec<f64> = b.read_raw().unwrap();
+        let last = &all[(rows - 1) * (ranks + 1)..];
+        let (lo, hi) = (last[0], last[ranks]);
+        let width = (hi - lo) / ranks as f64;
+        let moved = (1..ranks)
+            .map(|k| ((last[k] - (lo + k as f64 * width)) / width).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            moved > 0.05,
+            "{case} on {ranks} ranks: the boundaries stayed where equal slabs put them: {last:?}"
+        );
+    }
 }
 
 #[test]
@@ -183,21 +194,13 @@ fn history_model_with_balancing_is_bit_identical_on_4_6_8_ranks() {
     // particles and their loaded contact histories migrate to whichever rank now owns them.
     let dir = tmpdir();
     let extra = ["--set", "run.balance_every=0.02"];
-    for other in assert_identical_with("sd_capped.toml", &[4, 6, 8], &extra, &dir) {
-        assert!(
-            other.histories_migrated > 100,
-            "on {} ranks only {} contact histories moved with migrating particles",
-            other.ranks,
-            other.histories_migrated
-        );
-    }
-    for ranks in [4, 6, 8] {
-        let (bounds, moved) = moved_bounds(dir.path(), "sd_capped.toml", ranks);
-        assert!(
-            moved > 0.05,
-            "{ranks} ranks: the boundaries stayed where equal slabs put them: {bounds:?}"
-        );
-    }
+    assert_histories_migrated(&assert_identical_with(
+        "sd_capped.toml",
+        &[4, 6, 8],
+        &extra,
+        &dir,
+    ));
+    assert_boundaries_moved(dir.path(), "sd_capped.toml", &[4, 6, 8]);
 }
 
 #[test]
@@ -205,14 +208,12 @@ fn periodic_history_drum_with_balancing_is_bit_identical_on_1_2_3_4_6_8_ranks() 
     // Histories across the periodic seam as well as the slab faces, boundaries moving.
     let dir = tmpdir();
     let extra = ["--set", "run.balance_every=0.02"];
-    for other in assert_identical_with("sd_periodic.toml", &[2, 3, 4, 6, 8], &extra, &dir) {
-        assert!(
-            other.histories_migrated > 100,
-            "on {} ranks only {} contact histories moved with migrating particles",
-            other.ranks,
-            other.histories_migrated
-        );
-    }
+    assert_histories_migrated(&assert_identical_with(
+        "sd_periodic.toml",
+        &[2, 3, 4, 6, 8],
+        &extra,
+        &dir,
+    ));
 }
 
 #[test]
@@ -222,13 +223,7 @@ fn spherical_tumbler_with_balancing_is_bit_identical_on_4_6_8_ranks() {
     let dir = tmpdir();
     let extra = ["--set", "run.balance_every=0.01"];
     assert_identical_with("sphere.toml", &[4, 6, 8], &extra, &dir);
-    for ranks in [4, 6, 8] {
-        let (bounds, moved) = moved_bounds(dir.path(), "sphere.toml", ranks);
-        assert!(
-            moved > 0.05,
-            "{ranks} ranks: the boundaries stayed where equal slabs put them: {bounds:?}"
-        );
-    }
+    assert_boundaries_moved(dir.path(), "sphere.toml", &[4, 6, 8]);
 }
 
 #[test]
