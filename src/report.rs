@@ -1,7 +1,7 @@
 //! Human-readable reports: `tumbler check`'s derived quantities and small formatting helpers.
 
 use crate::case::{Case, Family, InitKind};
-use crate::init::{initial_particles, pour};
+use crate::init::{initial_particles, pour, Share};
 use crate::physics::law;
 use std::fmt::Write;
 
@@ -32,7 +32,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let reach = law::reach(case);
     let length = case.drum.axial_length();
     let slab = length / ranks as f64;
-    let (initial, _) = initial_particles(case)?;
+    let (initial, _) = initial_particles(case, &Share::everything())?;
     let radius = 0.5 * case.drum.diameter;
     let mut per_species = vec![0usize; case.species.len()];
     for p in &initial {

@@ -688,7 +688,8 @@ fn unusable_particles_in_a_file_are_refused_naming_them() {
             .replace("fill = 0.3\n", "")
             .replace("settle_time = 0.2\n", "");
         let case = parse_case(&with_file, name).unwrap();
-        let e = tumbler::init::initial_particles(&case).unwrap_err();
+        let e = tumbler::init::initial_particles(&case, &tumbler::init::Share::everything())
+            .unwrap_err();
         expect(&e, &[msg]);
         // `tumbler check` refuses it too (exit 2), naming the particle
         let path = dir.path().join(format!("{name}.toml"));

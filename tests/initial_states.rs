@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{case_path, tmpdir, tumbler};
+use common::{case_path, mpirun, tmpdir, tumbler};
 use std::path::Path;
 
 fn read_particles(path: &Path) -> (Vec<u64>, Vec<f64>, Vec<f64>) {
@@ -214,6 +214,107 @@ fn overlapping_or_outside_particles_are_refused() {
         assert!(!o.status.success());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(why), "{p2}: {err}");
+        assert!(!out.exists() && !common::tmp_partial(&out).exists());
+    }
+}
+
+/// A bed read from a file on 1, 2 and 3 ranks: each rank reads only its part of the file
+/// (in blocks), and the runs are the same bits. A duplicate id, or an unusable particle, in
+/// a part that rank 0 never sees is still refused, by its id, with rank 0's message.
+#[test]
+fn particle_file_read_in_parts_on_several_ranks() {
+    let dir = tmpdir();
+    let bed = dir.path().join("bed.h5");
+    let o = tumbler(&[
+        "run",
+        case_path("sd_capped.toml").to_str().unwrap(),
+        "-o",
+        bed.to_str().unwrap(),
+        "--set",
+        "run.rotations=0.01",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let base = std::fs::read_to_string(case_path("sd_capped.toml")).unwrap();
+    let from = |file: &Path| {
+        let case = dir.path().join("from_file.toml");
+        let text = base
+            .replace(
+                "kind = \"pour\"",
+                &format!("kind = \"particles\"\nfile = \"{}\"", file.display()),
+            )
+            .replace("fill = 0.3\n", "")
+            .replace("settle_time = 0.2\n", "");
+        std::fs::write(&case, text).unwrap();
+        case
+    };
+    let case = from(&bed);
+    let mut outs = Vec::new();
+    for ranks in [1, 2, 3] {
+        let out = dir.path().join(format!("from{ranks}.h5"));
+        let o = mpirun(
+            ranks,
+            &[
+                "run",
+                case.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+                "--set",
+                "run.rotations=0.01",
+            ],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        outs.push(out);
+    }
+    let bits = |p: &Path| {
+        let f = hdf5::File::open(p).unwrap();
+        let x: Vec<f64> = f.dataset("particles/position").unwrap().read_raw().unwrap();
+        let id: Vec<u64> = f.dataset("particles/id").unwrap().read_raw().unwrap();
+        (id, x.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+    };
+    let one = bits(&outs[0]);
+    assert!(one.0.len() > 100);
+    for out in &outs[1..] {
+        assert!(bits(out) == one, "{} differs from 1 rank", out.display());
+    }
+
+    // edit a copy of the bed: the ids run along the axis, so the first and the last
+    // particle lie at opposite ends, on the first and the last of 3 ranks
+    let edited = |name: &str, edit: &dyn Fn(&hdf5::File)| {
+        let copy = dir.path().join(name);
+        std::fs::copy(&bed, &copy).unwrap();
+        let f = hdf5::File::open_rw(&copy).unwrap();
+        edit(&f);
+        drop(f);
+        copy
+    };
+    let dup = edited("dup.h5", &|f| {
+        let ds = f.dataset("particles/id").unwrap();
+        let mut id: Vec<u64> = ds.read_raw().unwrap();
+        let n = id.len();
+        id[n - 1] = id[0];
+        ds.write_raw(&id).unwrap();
+    });
+    let nan = edited("nan.h5", &|f| {
+        let ds = f.dataset("particles/velocity").unwrap();
+        let mut v: Vec<f64> = ds.read_raw().unwrap();
+        let n = v.len();
+        v[n - 3] = f64::NAN;
+        ds.write_raw(&v).unwrap();
+    });
+    let last = one.0.last().copied().unwrap();
+    for (file, why) in [
+        (dup, format!("particle id {} appears twice", one.0[0])),
+        (nan, format!("particle {last} has velocity (NaN")),
+    ] {
+        let case = from(&file);
+        let out = dir.path().join("refused.h5");
+        let o = mpirun(
+            3,
+            &["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(&why), "{why}: {err}");
+        assert!(!err.contains("another rank"), "{err}");
         assert!(!out.exists() && !common::tmp_partial(&out).exists());
     }
 }

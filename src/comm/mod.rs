@@ -60,4 +60,25 @@ pub trait Comm {
     fn gather_f64(&self, local: &[f64]) -> Option<Vec<f64>>;
     /// Whether `ok` holds on every rank.
     fn all_ok(&self, ok: bool) -> bool;
+
+    /// The error of the lowest rank that has one, on every rank (`None` when no rank has):
+    /// what a rank found wrong in its own part of the input reaches the rank that reports.
+    fn first_error(&self, err: Option<String>) -> Option<String> {
+        let mut flags = vec![0u64; self.size()];
+        if err.is_some() {
+            flags[self.rank()] = 1;
+        }
+        self.sum_u64_all(&mut flags);
+        let first = flags.iter().position(|&f| f > 0)?;
+        let text: Vec<f64> = match (&err, self.rank() == first) {
+            (Some(e), true) => e.bytes().map(f64::from).collect(),
+            _ => Vec::new(),
+        };
+        let to: Vec<Vec<f64>> = (0..self.size()).map(|_| text.clone()).collect();
+        let bytes: Vec<u8> = self.all_to_all(&to)[first]
+            .iter()
+            .map(|&b| b as u8)
+            .collect();
+        Some(String::from_utf8_lossy(&bytes).into_owned())
+    }
 }

@@ -103,6 +103,36 @@ pub fn balanced_bounds(
     Some(to_bounds(&best))
 }
 
+/// The smallest imbalance any `ranks` slabs longer than `min_width` can reach on `hist`
+/// (cuts on bin edges, as [`balanced_bounds`] places them): a slab holding bin `k` holds at
+/// least the lightest run of that many bins around `k`, so the heaviest such run bounds
+/// the largest share from below. On too many ranks for the drum's length, or a drum with a
+/// dense band narrower than a few slabs, this is what keeps the balance from 1.
+pub fn imbalance_bound(hist: &[u64], length: f64, ranks: usize, min_width: f64) -> f64 {
+    let nb = hist.len();
+    let total: u64 = hist.iter().sum();
+    if total == 0 || ranks <= 1 {
+        return 1.0;
+    }
+    let min_bins = ((min_width / (length / nb as f64)).floor() as usize + 1).min(nb);
+    let mut cum = vec![0u64; nb + 1];
+    for (k, &h) in hist.iter().enumerate() {
+        cum[k + 1] = cum[k] + h;
+    }
+    // work of the run of min_bins bins starting at bin i
+    let run = |i: usize| cum[i + min_bins] - cum[i];
+    let starts = nb - min_bins; // last start
+    let heaviest = (0..nb)
+        .map(|k| {
+            let (a, b) = (k.saturating_sub(min_bins - 1), k.min(starts));
+            (a..=b).map(run).min().unwrap_or(0)
+        })
+        .max()
+        .unwrap_or(0);
+    let share = (heaviest as f64).max(total as f64 / ranks as f64);
+    share * ranks as f64 / total as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,6 +190,27 @@ mod tests {
             let i = imbalance(&work_per_slab(&h, -20.0, 40.0, &b));
             assert!(i < 1.01, "{ranks} ranks: imbalance {i}");
         }
+    }
+
+    #[test]
+    fn the_bound_is_reached_where_the_width_limits_and_is_1_where_it_does_not() {
+        // all the work in one bin: the slab holding it holds everything
+        let mut h = vec![0u64; 100];
+        h[40] = 1000;
+        assert_eq!(imbalance_bound(&h, 10.0, 4, 2.0), 4.0);
+        let b = balanced_bounds(&h, 0.0, 10.0, 4, 2.0).unwrap();
+        assert_eq!(imbalance(&work_per_slab(&h, 0.0, 10.0, &b)), 4.0);
+        // even work: nothing keeps the balance from 1
+        assert_eq!(imbalance_bound(&[7u64; 100], 10.0, 4, 2.0), 1.0);
+        // a dense band 3 long, slabs at least 1 long: 3 slabs can share it, not 4
+        let h: Vec<u64> = (0..100).map(|k| if k < 30 { 100 } else { 1 }).collect();
+        let bound = imbalance_bound(&h, 10.0, 8, 0.95);
+        let b = balanced_bounds(&h, 0.0, 10.0, 8, 0.95).unwrap();
+        let reached = imbalance(&work_per_slab(&h, 0.0, 10.0, &b));
+        assert!(
+            bound > 2.0 && reached >= bound && reached < 1.05 * bound,
+            "{bound} {reached}"
+        );
     }
 
     #[test]

@@ -19,15 +19,33 @@ use std::time::Instant;
 /// particles per rank.
 const BALANCE_BINS_PER_REACH: f64 = 32.0;
 
+/// What a load-balance check found: the imbalance (max / mean work per rank) before and
+/// after it, and the smallest any slabs as wide as the halo can reach.
+#[derive(Debug, Clone, Copy)]
+pub struct BalanceCheck {
+    /// With the slabs as they were.
+    pub before: f64,
+    /// With the slabs after the check (`before` if they did not move).
+    pub after: f64,
+    /// The least any slabs longer than the halo width can reach ([`balance::imbalance_bound`]).
+    pub bound: f64,
+}
+
 /// Why a decomposition cannot be used.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecompositionError(pub String);
+
+/// The slabs a run starts with on `ranks` ranks (equal lengths), whose particles each rank
+/// makes or reads for itself.
+pub fn initial_slabs(case: &Case, ranks: usize) -> Slabs {
+    Slabs::uniform(ranks, case.drum.axial_length(), case.drum.periodic())
+}
 
 /// Refuse cutting the drum of `case` into `ranks` equal slabs thinner than the interaction
 /// range + skin (a ghost must come from a neighbouring slab), saying how many ranks fit.
 pub fn slabs_fit(case: &Case, ranks: usize) -> Result<(), String> {
     let length = case.drum.axial_length();
-    let width = Slabs::uniform(ranks, length, case.drum.periodic()).min_width();
+    let width = initial_slabs(case, ranks).min_width();
     let reach = law::reach(case);
     if width < reach {
         return Err(format!(
@@ -93,8 +111,8 @@ pub struct Sim<'c> {
 }
 
 impl<'c> Sim<'c> {
-    /// Set up a rank from the global initial state (every rank sees all of it and keeps the
-    /// particles in its own slab), and compute the initial forces.
+    /// Set up a rank from its part of the initial state (it keeps the particles of
+    /// `initial` in its own slab of [`initial_slabs`]), and compute the initial forces.
     pub fn new(
         case: &Case,
         comm: &'c dyn Comm,
@@ -134,7 +152,7 @@ impl<'c> Sim<'c> {
         let length = case.drum.axial_length();
         slabs_fit(case, comm.size()).map_err(DecompositionError)?;
         let reach = law::reach(case);
-        let slabs = Slabs::uniform(comm.size(), length, periodic);
+        let slabs = initial_slabs(case, comm.size());
         let walls = DrumWalls {
             radius: 0.5 * case.drum.diameter,
             half_length: 0.5 * length,
@@ -459,32 +477,39 @@ impl<'c> Sim<'c> {
 
     /// Move the slab boundaries so that every rank has the same work, if the imbalance
     /// (max / mean work per rank) exceeds `tolerance`; all ranks call this together. The
-    /// particles move to their new owners at once (a rebuild). Returns the imbalance before
-    /// and after.
-    pub fn rebalance(&mut self, tolerance: f64) -> (f64, f64) {
+    /// particles move to their new owners at once (a rebuild).
+    pub fn rebalance(&mut self, tolerance: f64) -> BalanceCheck {
         let (hist, z0, length) = self.work_histogram();
+        let ranks = self.comm.size();
         let before = balance::imbalance(&balance::work_per_slab(
             &hist,
             z0,
             length,
             &self.slabs.bounds,
         ));
-        if before <= tolerance || self.comm.size() == 1 {
-            return (before, before);
+        let bound = balance::imbalance_bound(&hist, length, ranks, self.reach);
+        let unmoved = BalanceCheck {
+            before,
+            after: before,
+            bound,
+        };
+        if before <= tolerance || ranks == 1 {
+            return unmoved;
         }
-        let Some(bounds) =
-            balance::balanced_bounds(&hist, z0, length, self.comm.size(), self.reach)
-        else {
-            return (before, before);
+        let Some(bounds) = balance::balanced_bounds(&hist, z0, length, ranks, self.reach) else {
+            return unmoved;
         };
         let after = balance::imbalance(&balance::work_per_slab(&hist, z0, length, &bounds));
-        if after < before {
-            self.slabs.bounds = bounds;
-            let saved = self.saved_histories();
-            self.rebuild_with(saved, true);
-            (before, after)
-        } else {
-            (before, before)
+        if after >= before {
+            return unmoved;
+        }
+        self.slabs.bounds = bounds;
+        let saved = self.saved_histories();
+        self.rebuild_with(saved, true);
+        BalanceCheck {
+            before,
+            after,
+            bound,
         }
     }
 

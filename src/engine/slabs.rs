@@ -40,6 +40,19 @@ impl Slabs {
         (self.bounds[rank], self.bounds[rank + 1])
     }
 
+    /// The axial positions `rank` owns: its range, reaching out to infinity at the ends (where
+    /// positions clamp to the end slabs, as in [`Slabs::owner`]).
+    pub fn owned_span(&self, rank: usize) -> (f64, f64) {
+        let (lo, hi) = self.range(rank);
+        let lo = if rank == 0 { f64::NEG_INFINITY } else { lo };
+        let hi = if rank + 1 == self.size() {
+            f64::INFINITY
+        } else {
+            hi
+        };
+        (lo, hi)
+    }
+
     /// Thinnest slab.
     pub fn min_width(&self) -> f64 {
         self.bounds

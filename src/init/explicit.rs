@@ -3,14 +3,27 @@
 //! edited state or a bed poured elsewhere). Particles must lie inside the drum and may not
 //! overlap by more than `run.max_overlap` of the smaller diameter.
 
+use super::Share;
 use crate::case::{Case, Shape};
+use crate::comm::Comm;
 use crate::particles::ParticleState;
 use std::collections::HashMap;
 
-/// The particles of `case` (`init.kind = "particles"`), sorted by id.
-pub fn explicit(case: &Case) -> Result<Vec<ParticleState>, String> {
-    let mut out = match &case.init.file {
-        Some(path) => read_file(path)?,
+/// The particles of `case` (`init.kind = "particles"`) in `share`, sorted by id.
+///
+/// A file is read in blocks, keeping only the particles near the share: those in it, and
+/// those within a largest diameter of it, against which its own are checked for overlaps.
+/// Ids must be unique over the whole state; a rank sees only its part, so the run checks
+/// that across the ranks (`Sim::duplicate_id`).
+pub fn explicit(case: &Case, share: &Share) -> Result<Vec<ParticleState>, String> {
+    let margin = case
+        .species
+        .iter()
+        .map(crate::physics::law::largest_diameter)
+        .fold(0.0, f64::max);
+    let near = |z: f64| share.owns(z) || share.meets(z - margin, z + margin) || !z.is_finite();
+    let mut out: Vec<ParticleState> = match &case.init.file {
+        Some(path) => read_file(path, &near)?,
         None => case
             .init
             .particle
@@ -26,66 +39,114 @@ pub fn explicit(case: &Case) -> Result<Vec<ParticleState>, String> {
                     p.angular_velocity,
                 )
             })
+            .filter(|p| near(p.x[2]))
             .collect(),
     };
     out.sort_by_key(|p| p.id);
-    check(case, &out)?;
+    check(case, &out, &|p: &ParticleState| {
+        share.owns(p.x[2]) || !p.x[2].is_finite()
+    })?;
+    out.retain(|p| share.owns(p.x[2]));
     Ok(out)
 }
 
-fn read_file(path: &str) -> Result<Vec<ParticleState>, String> {
+/// The smallest id that two particles share, over the parts `ps` of all ranks (every
+/// rank calls this together); each rank checks the ids `id % ranks` that fall to it.
+pub fn duplicate_id(ps: &[ParticleState], comm: &dyn Comm) -> Option<u64> {
+    let n = comm.size();
+    let mut to = vec![Vec::new(); n];
+    for p in ps {
+        // ids are below 2^40, exact in an f64
+        to[(p.id % n as u64) as usize].push(p.id as f64);
+    }
+    let mut ids: Vec<u64> = comm
+        .all_to_all(&to)
+        .into_iter()
+        .flatten()
+        .map(|x| x as u64)
+        .collect();
+    ids.sort_unstable();
+    let mine = ids.windows(2).find(|w| w[0] == w[1]).map(|w| w[0] as f64);
+    let first = -comm.max_f64(-mine.unwrap_or(f64::INFINITY));
+    first.is_finite().then_some(first as u64)
+}
+
+/// Rows of a particle file read at a time.
+const BLOCK: usize = 1 << 18;
+
+/// The particles of the file at `path` whose `z` passes `keep`, read block by block.
+fn read_file(path: &str, keep: &dyn Fn(f64) -> bool) -> Result<Vec<ParticleState>, String> {
     let bad = |e: hdf5::Error| format!("init.file: cannot read particles from {path}: {e}");
     let f = hdf5::File::open(path).map_err(bad)?;
-    let id: Vec<u64> = f
-        .dataset("particles/id")
-        .and_then(|d| d.read_raw())
-        .map_err(bad)?;
-    let species: Vec<u8> = f
-        .dataset("particles/species")
-        .and_then(|d| d.read_raw())
-        .map_err(bad)?;
-    let diameter: Vec<f64> = f
-        .dataset("particles/diameter")
-        .and_then(|d| d.read_raw())
-        .map_err(bad)?;
-    let vec3 = |name: &str| -> Result<Vec<f64>, String> {
-        let v: Vec<f64> = f
-            .dataset(&format!("particles/{name}"))
-            .and_then(|d| d.read_raw())
-            .map_err(bad)?;
-        if v.len() != 3 * id.len() {
-            return Err(format!(
-                "init.file: {path}: particles/{name} has {} values, expected {}",
-                v.len(),
-                3 * id.len()
-            ));
-        }
-        Ok(v)
-    };
+    let open = |name: &str| f.dataset(&format!("particles/{name}")).map_err(bad);
+    let (id, species, diameter) = (open("id")?, open("species")?, open("diameter")?);
     let (x, v, w) = (
-        vec3("position")?,
-        vec3("velocity")?,
-        vec3("angular_velocity")?,
+        open("position")?,
+        open("velocity")?,
+        open("angular_velocity")?,
     );
-    if species.len() != id.len() || diameter.len() != id.len() {
+    let n = id.size();
+    if species.size() != n || diameter.size() != n {
         return Err(format!(
             "init.file: {path}: the /particles datasets differ in length"
         ));
     }
-    Ok((0..id.len())
-        .map(|i| {
+    for (name, d) in [("position", &x), ("velocity", &v), ("angular_velocity", &w)] {
+        // rows of three, or the same values in one flat list
+        if d.shape() != [n, 3] && d.shape() != [3 * n] {
+            return Err(format!(
+                "init.file: {path}: particles/{name} has shape {:?}, expected [{n}, 3]",
+                d.shape()
+            ));
+        }
+    }
+    let mut out = Vec::new();
+    for lo in (0..n).step_by(BLOCK) {
+        let hi = (lo + BLOCK).min(n);
+        let rows = |d: &hdf5::Dataset| -> Result<Vec<f64>, String> {
+            if d.ndim() == 1 {
+                return Ok(d.read_slice_1d(3 * lo..3 * hi).map_err(bad)?.to_vec());
+            }
+            let a = d
+                .read_slice_2d::<f64, _>(ndarray::s![lo..hi, ..])
+                .map_err(bad)?;
+            Ok(a.iter().copied().collect())
+        };
+        let xs = rows(&x)?;
+        let kept: Vec<usize> = (0..hi - lo).filter(|&i| keep(xs[3 * i + 2])).collect();
+        if kept.is_empty() {
+            continue;
+        }
+        let ids: Vec<u64> = id.read_slice_1d(lo..hi).map_err(bad)?.to_vec();
+        let sps: Vec<u8> = species.read_slice_1d(lo..hi).map_err(bad)?.to_vec();
+        let ds: Vec<f64> = diameter.read_slice_1d(lo..hi).map_err(bad)?.to_vec();
+        let (vs, ws) = (rows(&v)?, rows(&w)?);
+        for i in kept {
             let t = |a: &[f64]| [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
-            ParticleState::new(id[i], species[i], diameter[i], t(&x), t(&v), t(&w))
-        })
-        .collect())
+            out.push(ParticleState::new(
+                ids[i],
+                sps[i],
+                ds[i],
+                t(&xs),
+                t(&vs),
+                t(&ws),
+            ));
+        }
+    }
+    Ok(out)
 }
 
-fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
+/// Check the particles `mine` holds (the others of `ps` only take part in its overlaps).
+fn check(
+    case: &Case,
+    ps: &[ParticleState],
+    mine: &dyn Fn(&ParticleState) -> bool,
+) -> Result<(), String> {
     let radius = 0.5 * case.drum.diameter;
     let half = 0.5 * case.drum.axial_length();
     let max_overlap = case.run.max_overlap;
     for w in ps.windows(2) {
-        if w[0].id == w[1].id {
+        if w[0].id == w[1].id && (mine(&w[0]) || mine(&w[1])) {
             return Err(format!("init: particle id {} appears twice", w[0].id));
         }
     }
@@ -93,7 +154,7 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
         || "[[init.particle]]".to_string(),
         |f| format!("init.file {f}"),
     );
-    let unusable: Vec<String> = ps.iter().filter_map(unusable).collect();
+    let unusable: Vec<String> = ps.iter().filter(|p| mine(p)).filter_map(unusable).collect();
     if let Some(first) = unusable.first() {
         let more = match unusable.len() {
             1 => String::new(),
@@ -101,7 +162,7 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
         };
         return Err(format!("init: {first}{more}"));
     }
-    for p in ps {
+    for p in ps.iter().filter(|p| mine(p)) {
         if p.species as usize >= case.species.len() {
             return Err(format!(
                 "init: particle {} has species {}, but the case has {}",
@@ -170,6 +231,9 @@ fn check(case: &Case, ps: &[ParticleState]) -> Result<(), String> {
                             continue;
                         }
                         let q = &ps[j];
+                        if !mine(p) && !mine(q) {
+                            continue;
+                        }
                         let d: f64 = (0..3)
                             .map(|k| (p.x[k] - q.x[k]).powi(2))
                             .sum::<f64>()

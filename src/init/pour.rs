@@ -3,14 +3,16 @@
 //! the requested fill level. Species are drawn by volume share; diameters are uniform in
 //! `[d - spread, d]` or normal with relative s.d. `diameter_sd` (cut at 3 s.d.).
 //!
-//! The points are made on every rank from the seed alone; growth and settling run in the
-//! decomposed engine, so the bed is the same bits on any number of ranks.
+//! Each rank makes only the points of its own slab, every random draw keyed by the seed and
+//! a global index; growth and settling run in the decomposed engine, so the bed is the same
+//! bits on any number of ranks.
 
+use super::keyed::{self, Permutation, Purpose};
+use super::Share;
 use crate::case::{Case, Shape};
 use crate::engine::Sim;
 use crate::particles::ParticleState;
-use rand::seq::SliceRandom;
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
 
@@ -18,8 +20,6 @@ use std::f64::consts::PI;
 pub const PACKING: f64 = 0.64;
 /// How many more particles than the fill needs are poured before the cut.
 pub const OVERFILL: f64 = 1.25;
-/// Largest solid fraction at which the points are placed (at their shrunken size).
-const PLACEMENT_FRACTION: f64 = 0.12;
 
 /// What the pour did.
 #[derive(Debug, Clone)]
@@ -92,137 +92,211 @@ pub fn cut_height(shape: Shape, radius: f64, fill: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// The random points of the pour (at rest), sorted by id, and the factor by which their
-/// diameters are shrunk for placement.
-pub fn points(case: &Case) -> Result<(Vec<ParticleState>, f64), String> {
-    let mut rng = ChaCha8Rng::seed_from_u64(case.seed);
+/// Share of the eligible cells of the placement grid that hold a point (which ones is drawn
+/// at random, layer by layer).
+const CELL_OCCUPANCY: f64 = 0.85;
+
+/// The placement grid of a pour: cubic cells (of side `cz` along the axis in a periodic
+/// drum, so that whole layers fill its length) whose jittered points cannot overlap at the
+/// shrunken size, in layers along the axis; a cell is eligible when every point it may
+/// hold is inside the drum with room for the largest particle at full size.
+struct Grid {
+    /// Cell side across the axis.
+    c: f64,
+    /// Largest distance of a point from its cell's centre along each axis.
+    jitter: f64,
+    /// Radius inside which every point must lie.
+    room: f64,
+    sphere: bool,
+    /// Centres of the layers along the axis.
+    layers: Vec<f64>,
+    /// Eligible cells per layer.
+    eligible: Vec<u64>,
+    /// The factor by which the diameters are shrunk for placement.
+    scale: f64,
+}
+
+impl Grid {
+    fn new(case: &Case, c: f64, d_max: f64, room: f64) -> Self {
+        let half = 0.5 * case.drum.axial_length();
+        let sphere = case.drum.shape == Shape::Sphere;
+        let cz = if case.drum.periodic() {
+            2.0 * half / (2.0 * half / c).floor().max(1.0)
+        } else {
+            c
+        };
+        let c_min = c.min(cz);
+        let shrunk = (0.5 * c_min).min(0.9 * d_max);
+        let jitter = 0.5 * (c_min - shrunk);
+        let layers: Vec<f64> = if case.drum.periodic() {
+            let nz = (2.0 * half / cz).round() as i64;
+            (0..nz).map(|k| -half + (k as f64 + 0.5) * cz).collect()
+        } else {
+            let z_room = if sphere { room } else { half - 0.5 * d_max };
+            let mz = ((z_room - jitter) / c).floor();
+            if mz < 0.0 {
+                Vec::new()
+            } else {
+                let mz = mz as i64;
+                (-mz..=mz).map(|k| k as f64 * c).collect()
+            }
+        };
+        let mut grid = Grid {
+            c,
+            jitter,
+            room,
+            sphere,
+            layers,
+            eligible: Vec::new(),
+            scale: shrunk / d_max,
+        };
+        grid.eligible = grid
+            .layers
+            .iter()
+            .map(|&z| grid.rows(z).map(|(_, k)| 2 * k + 1).sum())
+            .collect();
+        grid
+    }
+
+    /// The rows of eligible cells of the layer at `z`: `(j, k)` for the row at `y = j c`
+    /// whose cells are `x = i c`, `-k <= i <= k`.
+    fn rows(&self, z: f64) -> impl Iterator<Item = (i64, u64)> + '_ {
+        let m = (self.room / self.c).floor() as i64;
+        let zz = if self.sphere {
+            (z.abs() + self.jitter).powi(2)
+        } else {
+            0.0
+        };
+        (-m..=m).filter_map(move |j| {
+            let y = (j as f64 * self.c).abs() + self.jitter;
+            let left = self.room * self.room - y * y - zz;
+            if left < 0.0 {
+                return None;
+            }
+            let x = left.sqrt() - self.jitter;
+            (x >= 0.0).then(|| (j, (x / self.c).floor() as u64))
+        })
+    }
+
+    fn cells(&self) -> u64 {
+        self.eligible.iter().sum()
+    }
+}
+
+/// The random points of the pour (at rest) in `share`, sorted by id, and the factor by
+/// which their diameters are shrunk for placement.
+///
+/// Every point sits at random in a cell of a grid too fine for two points to touch; the
+/// points are dealt out over the layers of cells in proportion to their eligible cells, and
+/// which cells of a layer hold one is drawn per layer. Ids run along the axis (layers, then
+/// rows along `y`, then `x`): the force pass adds each pair in order of ids, so neighbours
+/// with nearby ids are neighbours in memory, and the beds mix quickly across the drum but
+/// slowly along it. Species are dealt out in exact numbers by a keyed permutation of the
+/// ids; each point's place and diameter are drawn from its own keyed stream.
+pub fn points(case: &Case, share: &Share) -> Result<(Vec<ParticleState>, f64), String> {
     let fill = case.init.fill.unwrap_or(0.0);
     let solid = fill * case.drum.volume() * PACKING * OVERFILL;
     let single = case.species.len() == 1;
-    let mut labels: Vec<u8> = Vec::new();
-    for (k, s) in case.species.iter().enumerate() {
+    // species k takes the dealt positions ends[k-1]..ends[k]
+    let mut ends: Vec<u64> = Vec::new();
+    let mut d_max: f64 = 0.0;
+    for s in &case.species {
         let share = if single {
             1.0
         } else {
             s.volume_fraction.unwrap_or(0.0)
         };
-        let n = (solid * share / (PI / 6.0 * mean_d3(s))).round() as usize;
-        labels.extend(std::iter::repeat_n(k as u8, n));
+        let n = (solid * share / (PI / 6.0 * mean_d3(s))).round() as u64;
+        if n > 0 {
+            d_max = d_max.max(crate::physics::law::largest_diameter(s));
+        }
+        ends.push(ends.last().copied().unwrap_or(0) + n);
     }
-    labels.shuffle(&mut rng);
-    let diameters: Vec<f64> = labels
-        .iter()
-        .map(|&s| diameter(&case.species[s as usize], &mut rng))
-        .collect();
+    let n = ends.last().copied().unwrap_or(0);
+    if n == 0 {
+        return Ok((Vec::new(), 1.0));
+    }
 
     let radius = 0.5 * case.drum.diameter;
-    let half = 0.5 * case.drum.axial_length();
-    let total: f64 = diameters.iter().map(|d| PI / 6.0 * d * d * d).sum();
-    let scale = (PLACEMENT_FRACTION * case.drum.volume() / total)
-        .cbrt()
-        .min(0.9);
-    let d_max = diameters.iter().cloned().fold(0.0, f64::max) * scale;
+    // at full size no wall overlap (a rough wall's particles stick out by half their size)
+    let rough = case
+        .drum
+        .rough_wall
+        .as_ref()
+        .map_or(0.0, |r| 0.5 * r.diameter);
+    let room = radius - 0.5 * d_max - rough;
+    if room <= 0.0 {
+        return Err(format!(
+            "init.fill: a particle of diameter {d_max} does not fit in the drum (diameter {})",
+            case.drum.diameter
+        ));
+    }
+    let room_volume = match case.drum.shape {
+        Shape::Sphere => 4.0 / 3.0 * PI * room.powi(3),
+        Shape::Cylinder => PI * room * room * case.drum.axial_length(),
+    };
+    let mut c = (room_volume * CELL_OCCUPANCY / n as f64).cbrt();
+    let grid = loop {
+        let grid = Grid::new(case, c, d_max, room);
+        if grid.cells() as f64 * CELL_OCCUPANCY >= n as f64 {
+            break grid;
+        }
+        c *= 0.99;
+        if c < 1e-3 * d_max {
+            return Err(format!(
+                "init.fill: {n} particles do not fit in the drum; the fill is too high"
+            ));
+        }
+    };
 
-    // Random sequential addition at the shrunken size, on a hash grid of cells `d_max`.
-    let cell = d_max.max(1e-12);
-    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> =
-        std::collections::HashMap::new();
-    let key = |x: &[f64; 3]| {
-        [
-            (x[0] / cell).floor() as i64,
-            (x[1] / cell).floor() as i64,
-            (x[2] / cell).floor() as i64,
-        ]
-    };
-    let images: &[f64] = if case.drum.periodic() {
-        &[0.0, 2.0 * half, -2.0 * half]
-    } else {
-        &[0.0]
-    };
-    let mut placed: Vec<ParticleState> = Vec::with_capacity(labels.len());
-    for (k, (&s, &d)) in labels.iter().zip(&diameters).enumerate() {
-        // at full size no wall overlap (a rough wall's particles stick out by half their size)
-        let rough = case
-            .drum
-            .rough_wall
-            .as_ref()
-            .map_or(0.0, |r| 0.5 * r.diameter);
-        let room = radius - 0.5 * d - rough;
-        let mut found = None;
-        for _ in 0..10_000 {
-            let x = [
-                (2.0 * rng.gen::<f64>() - 1.0) * room,
-                (2.0 * rng.gen::<f64>() - 1.0) * room,
-                match case.drum.shape {
-                    Shape::Sphere => (2.0 * rng.gen::<f64>() - 1.0) * room,
-                    Shape::Cylinder if case.drum.periodic() => {
-                        (2.0 * rng.gen::<f64>() - 1.0) * half
-                    }
-                    Shape::Cylinder => (2.0 * rng.gen::<f64>() - 1.0) * (half - 0.5 * d),
-                },
-            ];
-            let inside = match case.drum.shape {
-                Shape::Sphere => x[0] * x[0] + x[1] * x[1] + x[2] * x[2] <= room * room,
-                Shape::Cylinder => x[0] * x[0] + x[1] * x[1] <= room * room,
-            };
-            if !inside {
-                continue;
-            }
-            let mut free = true;
-            // with periodic ends, a point near one end also meets those near the other
-            'scan: for shift in images {
-                let c = key(&[x[0], x[1], x[2] + shift]);
-                for dx in -1..=1 {
-                    for dy in -1..=1 {
-                        for dz in -1..=1 {
-                            let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
-                                continue;
-                            };
-                            for &j in list {
-                                let o = &placed[j];
-                                let mut sep = [x[0] - o.x[0], x[1] - o.x[1], x[2] - o.x[2]];
-                                if case.drum.periodic() {
-                                    sep[2] =
-                                        crate::physics::integrate::min_image(sep[2], 2.0 * half);
-                                }
-                                let min = 0.5 * scale * (d + o.diameter);
-                                if sep[0] * sep[0] + sep[1] * sep[1] + sep[2] * sep[2] < min * min {
-                                    free = false;
-                                    break 'scan;
-                                }
-                            }
-                        }
-                    }
+    // points per layer in proportion to its cells, and the id of each layer's first point
+    let cells = grid.cells() as u128;
+    let mut before = 0u128;
+    let mut firsts = Vec::with_capacity(grid.layers.len() + 1);
+    firsts.push(0u64);
+    for &e in &grid.eligible {
+        before += e as u128;
+        firsts.push((before * n as u128 / cells) as u64);
+    }
+
+    let dealt = Permutation::new(n, case.seed, Purpose::Species, 0);
+    let a = grid.jitter;
+    let mut placed = Vec::new();
+    for (l, &z) in grid.layers.iter().enumerate() {
+        let (first, count) = (firsts[l], firsts[l + 1] - firsts[l]);
+        if count == 0 || !share.meets(z - a, z + a) {
+            continue;
+        }
+        let chosen = Permutation::new(grid.eligible[l], case.seed, Purpose::Cells, l as u64);
+        let (mut cell, mut id) = (0u64, first);
+        'layer: for (j, k) in grid.rows(z) {
+            for i in -(k as i64)..=k as i64 {
+                let take = chosen.apply(cell) < count;
+                cell += 1;
+                if !take {
+                    continue;
+                }
+                let mut at = keyed::stream(case.seed, Purpose::Jitter, id);
+                let mut off = || a * (2.0 * at.gen::<f64>() - 1.0);
+                let x = [
+                    i as f64 * grid.c + off(),
+                    j as f64 * grid.c + off(),
+                    z + off(),
+                ];
+                if share.owns(x[2]) {
+                    let s = ends.partition_point(|&e| e <= dealt.apply(id));
+                    let mut rng = keyed::stream(case.seed, Purpose::Particle, id);
+                    let d = diameter(&case.species[s], &mut rng);
+                    placed.push(ParticleState::new(id, s as u8, d, x, [0.0; 3], [0.0; 3]));
+                }
+                id += 1;
+                if id == first + count {
+                    break 'layer;
                 }
             }
-            if free {
-                found = Some(x);
-                break;
-            }
         }
-        let x = found.ok_or_else(|| {
-            format!(
-                "init.fill: could not place particle {k} of {} at random; the fill is too high",
-                labels.len()
-            )
-        })?;
-        grid.entry(key(&x)).or_default().push(k);
-        placed.push(ParticleState::new(k as u64, s, d, x, [0.0; 3], [0.0; 3]));
     }
-    number_along_axis(&mut placed, d_max / scale);
-    Ok((placed, scale))
-}
-
-/// Renumber the points in order of layers of width `layer` along the drum's axis (then
-/// rows along `y`, then `x`), as the lattice numbers its sites. The force pass adds each
-/// pair in order of ids, so neighbours with nearby ids are neighbours in memory; the beds
-/// mix quickly across the drum but slowly along it, so the numbering stays local for long.
-fn number_along_axis(placed: &mut [ParticleState], layer: f64) {
-    let cell = |x: f64| (x / layer).floor() as i64;
-    placed.sort_by_key(|p| (cell(p.x[2]), cell(p.x[1]), cell(p.x[0]), p.id));
-    for (k, p) in placed.iter_mut().enumerate() {
-        p.id = k as u64;
-    }
+    Ok((placed, grid.scale))
 }
 
 /// Steps between the pour's health checks (each one a reduction over the ranks).
@@ -330,7 +404,7 @@ mod tests {
     fn points_do_not_overlap_across_periodic_ends() {
         let text = crate::validate::case_text("chen2008-ch4-periodic-w3.14").unwrap();
         let case = parse_case(text, "periodic").unwrap();
-        let (points, scale) = points(&case).unwrap();
+        let (points, scale) = points(&case, &Share::everything()).unwrap();
         let l = case.drum.axial_length();
         let near_end = |p: &&ParticleState| p.x[2].abs() > 0.5 * l - 2.0 * case.d_max();
         let ends: Vec<&ParticleState> = points.iter().filter(near_end).collect();

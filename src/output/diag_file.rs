@@ -4,6 +4,7 @@
 use super::series::{self, str_attr};
 use crate::diag::fields::FieldWindow;
 use crate::diag::{BandRule, SliceRecord};
+use crate::engine::sim::BalanceCheck;
 use crate::particles::ParticleState;
 use hdf5::{File, Group};
 
@@ -193,6 +194,13 @@ pub fn prepare_balance(file: &File, ranks: usize, keep_until: Option<f64>) -> hd
             let kept = cut_balance(&file.group("balance")?, until)?;
             let same = file.dataset("balance/bounds")?.shape().get(1) == Some(&(ranks + 1));
             if same {
+                // a file from before the bound was recorded: unknown for its checks so far
+                if !file.link_exists("balance/imbalance_bound") {
+                    create_bound(&file.group("balance")?)?;
+                    for _ in 0..kept {
+                        put(file, "balance/imbalance_bound", &[f64::NAN])?;
+                    }
+                }
                 return Ok(());
             }
             if kept == 0 {
@@ -226,12 +234,24 @@ pub fn prepare_balance(file: &File, ranks: usize, keep_until: Option<f64>) -> hd
         "-",
         "max / mean work per rank with the slabs after the check (the same if they did not move)",
     )?;
+    create_bound(&g)?;
     series::create::<f64>(
         &g,
         "bounds",
         &[ranks + 1],
         LEN,
         "slab boundaries after the check, from -L/2 to L/2",
+    )?;
+    Ok(())
+}
+
+fn create_bound(g: &Group) -> hdf5::Result<()> {
+    series::create::<f64>(
+        g,
+        "imbalance_bound",
+        &[],
+        "-",
+        "the least imbalance any slabs longer than the halo width (interaction range + skin) can reach",
     )?;
     Ok(())
 }
@@ -254,13 +274,13 @@ fn cut_balance(g: &Group, until: f64) -> hdf5::Result<usize> {
 pub fn append_balance(
     file: &File,
     rotations: f64,
-    before: f64,
-    after: f64,
+    check: &BalanceCheck,
     bounds: &[f64],
 ) -> hdf5::Result<()> {
     put(file, "balance/rotations", &[rotations])?;
-    put(file, "balance/imbalance_before", &[before])?;
-    put(file, "balance/imbalance_after", &[after])?;
+    put(file, "balance/imbalance_before", &[check.before])?;
+    put(file, "balance/imbalance_after", &[check.after])?;
+    put(file, "balance/imbalance_bound", &[check.bound])?;
     put(file, "balance/bounds", bounds)?;
     file.flush()
 }

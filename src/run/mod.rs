@@ -4,7 +4,7 @@ use crate::case::{parse_case, Case, LoadedCase};
 use crate::comm::Comm;
 use crate::diag::count_bands;
 use crate::engine::{Phase, Sim, PHASES};
-use crate::init::{initial_particles, pour};
+use crate::init::{initial_particles, pour, Share};
 use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
 use crate::output::{diag_file, spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
@@ -152,14 +152,21 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             (sim, Some(ck.samples))
         }
         None => {
-            // every rank reads the initial state (a file, say): stop together if one cannot
-            let init = initial_particles(case);
-            if !comm.all_ok(init.is_ok()) {
-                return Err(init
-                    .err()
-                    .unwrap_or_else(|| "another rank could not read the initial state".into()));
+            // each rank makes (or reads) the particles of its own slab: stop together, with
+            // the first rank's reason, if one cannot
+            let slabs = crate::engine::sim::initial_slabs(case, comm.size());
+            let (me, (lo, hi)) = (comm.rank(), slabs.owned_span(comm.rank()));
+            let owns = |z: f64| slabs.owner(z) == me;
+            let init = initial_particles(case, &Share::new(lo, hi, &owns));
+            let init = match (comm.first_error(init.as_ref().err().cloned()), init) {
+                (Some(e), _) => return Err(e),
+                (None, Ok(init)) => init,
+                (None, Err(e)) => return Err(e),
+            };
+            let (initial, start_scale) = init;
+            if let Some(id) = crate::init::duplicate_id(&initial, comm) {
+                return Err(format!("init: particle id {id} appears twice"));
             }
-            let (initial, start_scale) = init?;
             let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
             drop(initial);
             if case.init.kind == crate::case::InitKind::Pour {
@@ -490,11 +497,12 @@ pub fn peak_rss_bytes() -> u64 {
 /// and record the check; returns the imbalance now.
 fn balance_check(sim: &mut Sim, case: &Case, file: Option<&RunFile>) -> Result<f64, String> {
     let t0 = Instant::now();
-    let (before, after) = sim.rebalance(case.run.balance_tolerance);
+    let check = sim.rebalance(case.run.balance_tolerance);
+    let (before, after) = (check.before, check.after);
     let mut ok = true;
     if let Some(f) = file {
         if let Err(e) =
-            diag_file::append_balance(f.file(), sim.rotations(), before, after, &sim.slabs.bounds)
+            diag_file::append_balance(f.file(), sim.rotations(), &check, &sim.slabs.bounds)
         {
             log::error!("writing a load-balance check: {e}");
             ok = false;
