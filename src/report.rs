@@ -1,7 +1,7 @@
 //! Human-readable reports: `tumbler check`'s derived quantities and small formatting helpers.
 
 use crate::case::{Case, Family, InitKind};
-use crate::init::{initial_particles, pour, Share};
+use crate::init::{count_by_species, pour};
 use crate::physics::law;
 use std::fmt::Write;
 
@@ -32,12 +32,9 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let reach = law::reach(case);
     let length = case.drum.axial_length();
     let slab = length / ranks as f64;
-    let (initial, _) = initial_particles(case, &Share::everything())?;
+    let per_species = count_by_species(case)?;
+    let made: u64 = per_species.iter().sum();
     let radius = 0.5 * case.drum.diameter;
-    let mut per_species = vec![0usize; case.species.len()];
-    for p in &initial {
-        per_species[p.species as usize] += 1;
-    }
     let poured = case.init.kind == InitKind::Pour;
     // A pour keeps the part below the cut: estimate it by volume, for a bed packed at 0.6.
     let kept = if poured {
@@ -45,7 +42,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     } else {
         1.0
     };
-    let n = (initial.len() as f64 * kept).round() as usize;
+    let n = (made as f64 * kept).round() as usize;
     let dt = case.dt();
     let steps_per_rot = 2.0 * std::f64::consts::PI / (case.drum.omega.abs() * dt);
     let total_steps = crate::run::steps_for(case.run.rotations, case.drum.omega, dt);
@@ -64,7 +61,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         let _ = writeln!(
             out,
             "particles      about {n} after the cut ({} poured), fill {}",
-            initial.len(),
+            made,
             case.init.fill.unwrap_or(0.0)
         );
         let _ = writeln!(

@@ -62,6 +62,31 @@ pub fn initial_particles(case: &Case, share: &Share) -> Result<(Vec<ParticleStat
     }
 }
 
+/// Particles made at a time by [`count_by_species`].
+const COUNT_PART: f64 = 1e6;
+
+/// How many particles of each species the initial state of `case` holds (before a pour's
+/// cut), made part by part along the axis so that no more than about a million are held at
+/// once (a particle file is read whole: its parts are what the ranks read).
+pub fn count_by_species(case: &Case) -> Result<Vec<u64>, String> {
+    let parts = match case.init.kind {
+        InitKind::Particles => 1,
+        _ => (crate::case::estimated_particles(case) / COUNT_PART)
+            .ceil()
+            .clamp(1.0, 1e6) as usize,
+    };
+    let slabs = crate::engine::Slabs::uniform(parts, case.drum.axial_length(), false);
+    let mut counts = vec![0u64; case.species.len()];
+    for k in 0..parts {
+        let owns = |z: f64| slabs.owner(z) == k;
+        let (lo, hi) = slabs.owned_span(k);
+        for p in initial_particles(case, &Share::new(lo, hi, &owns))?.0 {
+            counts[p.species as usize] += 1;
+        }
+    }
+    Ok(counts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,6 +119,21 @@ mod tests {
             }
             all.sort_by_key(|p| p.id);
             assert!(key(&all) == key(&whole), "{ranks} ranks make another state");
+        }
+    }
+
+    #[test]
+    fn counts_made_in_parts_are_those_of_the_whole() {
+        for c in [
+            case("rapaport2002-A", ""),
+            case("chen2008-ch4-endwalls", ""),
+        ] {
+            let (whole, _) = initial_particles(&c, &Share::everything()).unwrap();
+            let mut counts = vec![0u64; c.species.len()];
+            for p in &whole {
+                counts[p.species as usize] += 1;
+            }
+            assert_eq!(count_by_species(&c).unwrap(), counts);
         }
     }
 
