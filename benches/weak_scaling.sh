@@ -20,7 +20,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
 # the quick-start bed holds 2314 particles in 64 length units; 2513.3 steps per rotation
-printf "| ranks | particles | peak RSS per rank, min / max (MiB) | rank 0 (MiB) | 100 steps (s) | init + output + checkpoint (s) |\n|---|---|---|---|---|---|\n"
+printf "| ranks | particles | peak RSS per rank, min / max (MiB) | rank 0 (MiB) | ghosts per rank, min / max | kB sent per step per rank, min / max | 100 steps (s) | init + output + checkpoint (s) |\n|---|---|---|---|---|---|---|---|\n"
 for np in $counts; do
   length=$(awk -v n="$per_rank" -v p="$np" 'BEGIN { printf "%.1f", 64.0 * n * p / 2314.0 }')
   log="$work/np$np.log"
@@ -35,7 +35,9 @@ for np in $counts; do
   rss0=$(sed -n 's/^peak-rss-kib \([0-9]*\)/\1/p' "$work/rank$np/1/rank.0/stderr")
   n=$(sed -n 's/.*: \([0-9]*\) particles on .*/\1/p' "$work/rank$np/1/rank.0/stderr" | head -1)
   steps=$(sed -n 's/.*done: [0-9]* steps in \([0-9.]*\) s.*/\1/p' "$work/rank$np/1/rank.0/stderr")
+  ghosts=$(sed -n 's/.*particles (rough-wall ones included), \([0-9]*\) to \([0-9]*\) ghosts.*/\1 \/ \2/p' "$work/rank$np/1/rank.0/stderr")
+  kb=$(sed -n 's/.* ghosts, \([0-9.]*\) to \([0-9.]*\) kB sent per step.*/\1 \/ \2/p' "$work/rank$np/1/rank.0/stderr")
   minmax=$(echo "$rss" | sort -n | awk 'NR==1 {lo=$1} {hi=$1} END { printf "%.0f / %.0f", lo/1024, hi/1024 }')
   rest=$(awk -v t="$total" -v s="$steps" 'BEGIN { printf "%.1f", t - s }')
-  printf "| %s | %s | %s | %.0f | %s | %s |\n" "$np" "$n" "$minmax" "$(awk -v k="$rss0" 'BEGIN{print k/1024}')" "$steps" "$rest"
+  printf "| %s | %s | %s | %.0f | %s | %s | %s | %s |\n" "$np" "$n" "$minmax" "$(awk -v k="$rss0" 'BEGIN{print k/1024}')" "$ghosts" "$kb" "$steps" "$rest"
 done

@@ -9,6 +9,7 @@ use super::surface::Frame;
 use crate::comm::Comm;
 use crate::particles::Particles;
 use crate::physics::rough_wall::is_fixed;
+use std::collections::HashMap;
 
 /// Bins over `[-R, R] x [-R, R]` in the surface frame and `[z0, z0 + nz dz]` along the axis.
 #[derive(Debug, Clone, PartialEq)]
@@ -157,14 +158,22 @@ pub struct BinnedSums {
     pub samples: u64,
     /// Sum of the frame angles of the samples (degrees).
     pub angle_sum: f64,
-    /// `sums[(bin * ns + species) * q + quantity]`.
+    /// The reduced window, `sums[(bin * ns + species) * q + quantity]`: whole on rank 0
+    /// after a [`reduce`](Self::reduce), empty on the other ranks.
     pub sums: Vec<i128>,
+    /// This rank's own sums since the last reduction, only for the bins its particles
+    /// touched (those of its slab, not the whole drum): the offset in `local_values` of
+    /// each touched `(bin * ns + species) * q`.
+    local_index: HashMap<usize, usize>,
+    local_values: Vec<i128>,
 }
+
+/// Values reduced at a time by [`BinnedSums::reduce`] (then rounded down to whole bins).
+const REDUCE_CHUNK: usize = 1 << 16;
 
 impl BinnedSums {
     /// Empty sums.
     pub fn new(grid: Grid, ns: usize, what: Quantities, scales: Scales) -> Self {
-        let len = grid.bins() * ns * what.len();
         BinnedSums {
             grid,
             ns,
@@ -172,8 +181,20 @@ impl BinnedSums {
             scales,
             samples: 0,
             angle_sum: 0.0,
-            sums: vec![0; len],
+            sums: Vec::new(),
+            local_index: HashMap::new(),
+            local_values: Vec::new(),
         }
+    }
+
+    /// Length of the whole sums (bins x species x quantities).
+    pub fn len(&self) -> usize {
+        self.grid.bins() * self.ns * self.what.len()
+    }
+
+    /// Whether there are no bins.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
 
     /// Forget everything accumulated.
@@ -181,6 +202,8 @@ impl BinnedSums {
         self.samples = 0;
         self.angle_sum = 0.0;
         self.sums.iter_mut().for_each(|x| *x = 0);
+        self.local_index.clear();
+        self.local_values.clear();
     }
 
     /// The sum of `quantity` for `species` in `bin`.
@@ -207,7 +230,12 @@ impl BinnedSums {
             let d = p.diameter[i];
             let vol = d * d * d;
             let base = (self.grid.index(xs, ys, z) * self.ns + p.species[i] as usize) * q;
-            let s = &mut self.sums[base..base + q];
+            let values = &mut self.local_values;
+            let at = *self.local_index.entry(base).or_insert_with(|| {
+                values.resize(values.len() + q, 0);
+                values.len() - q
+            });
+            let s = &mut values[at..at + q];
             match self.what {
                 Quantities::Fields => {
                     // drum frame: remove omega z x r
@@ -231,8 +259,43 @@ impl BinnedSums {
         self.angle_sum += frame.angle;
     }
 
-    /// Reduce the sums to rank 0 (others keep their own, to be cleared).
+    /// Add every rank's own sums into the whole sums on rank 0 (all ranks call this
+    /// together); each rank starts its own afresh. Every rank sends the whole length in
+    /// chunks, made from the bins it touched, so no rank but 0 holds the whole drum's bins.
     pub fn reduce(&mut self, comm: &dyn Comm) {
-        sum_to_root(&mut self.sums, comm);
+        let root = comm.rank() == 0;
+        let (len, q) = (self.len(), self.what.len());
+        if root && self.sums.len() != len {
+            self.sums = vec![0; len];
+        }
+        let mut touched: Vec<(usize, usize)> =
+            self.local_index.iter().map(|(&b, &at)| (b, at)).collect();
+        touched.sort_unstable();
+        // whole bins per chunk, so that no bin's values straddle two chunks
+        let step = (REDUCE_CHUNK / q.max(1)).max(1) * q.max(1);
+        let mut part = vec![0i128; step.min(len)];
+        let mut next = 0;
+        for start in (0..len).step_by(step) {
+            let end = (start + step).min(len);
+            let part = &mut part[..end - start];
+            part.fill(0);
+            while let Some(&(b, at)) = touched.get(next).filter(|(b, _)| *b < end) {
+                for (x, v) in part[b - start..b - start + q]
+                    .iter_mut()
+                    .zip(&self.local_values[at..at + q])
+                {
+                    *x += v;
+                }
+                next += 1;
+            }
+            sum_to_root(part, comm);
+            if root {
+                for (x, v) in self.sums[start..end].iter_mut().zip(part.iter()) {
+                    *x += v;
+                }
+            }
+        }
+        self.local_index.clear();
+        self.local_values.clear();
     }
 }

@@ -22,6 +22,18 @@ pub struct Halo {
     n_from_up: usize,
 }
 
+impl Halo {
+    /// Ghosts this rank holds.
+    pub fn ghosts(&self) -> usize {
+        self.n_from_down + self.n_from_up
+    }
+
+    /// Bytes this rank sends in one refresh of its neighbours' ghosts (once per step).
+    pub fn update_bytes(&self) -> usize {
+        (self.send_down.len() + self.send_up.len()) * UPDATE_WORDS * std::mem::size_of::<f64>()
+    }
+}
+
 /// Words of one saved contact history in a message: both ids and the vector.
 const HISTORY_WORDS: usize = 5;
 

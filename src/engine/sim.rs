@@ -609,6 +609,21 @@ impl<'c> Sim<'c> {
         worst
     }
 
+    /// Owned particles, ghosts and the bytes of one ghost refresh on each rank, the smallest
+    /// and the largest over the ranks (every rank calls this together): how evenly the
+    /// decomposition shares the particles and what the halo costs per step.
+    pub fn spread(&self) -> [(f64, f64); 3] {
+        let mut v = [
+            self.p.n_owned as f64,
+            self.halo.ghosts() as f64,
+            self.halo.update_bytes() as f64,
+        ];
+        let mut neg = v.map(|x| -x);
+        self.comm.max_f64_all(&mut v);
+        self.comm.max_f64_all(&mut neg);
+        [0, 1, 2].map(|k| (-neg[k], v[k]))
+    }
+
     /// Total number of mobile particles over all ranks.
     pub fn global_count(&self) -> u64 {
         let mobile = (0..self.p.n_owned)

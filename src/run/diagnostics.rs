@@ -107,13 +107,13 @@ impl RunDiagnostics {
                     (&mut windows.slices, &d.slices),
                     (&mut windows.fields, &d.fields),
                 ] {
-                    if saved.sums.len() != acc.sums.len() {
-                        return Err(differ("sums", saved.sums.len(), acc.sums.len()));
+                    if saved.sums.len() != acc.len() {
+                        return Err(differ("sums", saved.sums.len(), acc.len()));
                     }
                     acc.samples = saved.samples;
                     acc.angle_sum = saved.angle_sum;
                     if root {
-                        acc.sums.copy_from_slice(&saved.sums);
+                        acc.sums = saved.sums.clone();
                     }
                 }
                 let (a, b) = (d.angles.slice_sum.len(), windows.angles.slice_sum.len());

@@ -438,6 +438,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         return Err(write_err);
     }
 
+    let [owned, ghosts, bytes] = sim.spread();
     let steps = sim.step - first_step;
     let summary = RunSummary {
         particles: n_total,
@@ -460,6 +461,15 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             "peak memory {:.1} MiB on the largest rank ({:.0} B per particle of that rank's share)",
             peak_rss / (1u64 << 20) as f64,
             peak_rss * comm.size() as f64 / n_total.max(1) as f64
+        );
+        log::info!(
+            "per rank: {:.0} to {:.0} particles (rough-wall ones included), {:.0} to {:.0} ghosts, {:.1} to {:.1} kB sent per step to refresh the ghosts",
+            owned.0,
+            owned.1,
+            ghosts.0,
+            ghosts.1,
+            bytes.0 / 1e3,
+            bytes.1 / 1e3
         );
         let total_t = sim.timers.total().max(1e-12);
         for ph in PHASES {
