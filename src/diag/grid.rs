@@ -159,7 +159,7 @@ pub struct BinnedSums {
     /// Sum of the frame angles of the samples (degrees).
     pub angle_sum: f64,
     /// The reduced window, `sums[(bin * ns + species) * q + quantity]`: whole on rank 0
-    /// after a [`reduce`](Self::reduce), empty on the other ranks.
+    /// (see [`hold_whole`](Self::hold_whole)), empty on the other ranks.
     pub sums: Vec<i128>,
     /// This rank's own sums since the last reduction, only for the bins its particles
     /// touched (those of its slab, not the whole drum): the offset in `local_values` of
@@ -187,6 +187,14 @@ impl BinnedSums {
         }
     }
 
+    /// Hold the whole sums from the start (rank 0, which reduces into them): its own
+    /// particles are then added there directly, not through the touched bins.
+    pub fn hold_whole(&mut self) {
+        if self.sums.len() != self.len() {
+            self.sums = vec![0; self.len()];
+        }
+    }
+
     /// Length of the whole sums (bins x species x quantities).
     pub fn len(&self) -> usize {
         self.grid.bins() * self.ns * self.what.len()
@@ -201,7 +209,11 @@ impl BinnedSums {
     pub fn clear(&mut self) {
         self.samples = 0;
         self.angle_sum = 0.0;
-        self.sums.iter_mut().for_each(|x| *x = 0);
+        // writing only where needed leaves untouched pages unmapped
+        self.sums
+            .iter_mut()
+            .filter(|x| **x != 0)
+            .for_each(|x| *x = 0);
         self.local_index.clear();
         self.local_values.clear();
     }
@@ -230,12 +242,16 @@ impl BinnedSums {
             let d = p.diameter[i];
             let vol = d * d * d;
             let base = (self.grid.index(xs, ys, z) * self.ns + p.species[i] as usize) * q;
-            let values = &mut self.local_values;
-            let at = *self.local_index.entry(base).or_insert_with(|| {
-                values.resize(values.len() + q, 0);
-                values.len() - q
-            });
-            let s = &mut values[at..at + q];
+            let s = if self.sums.is_empty() {
+                let values = &mut self.local_values;
+                let at = *self.local_index.entry(base).or_insert_with(|| {
+                    values.resize(values.len() + q, 0);
+                    values.len() - q
+                });
+                &mut values[at..at + q]
+            } else {
+                &mut self.sums[base..base + q]
+            };
             match self.what {
                 Quantities::Fields => {
                     // drum frame: remove omega z x r
@@ -290,8 +306,11 @@ impl BinnedSums {
             }
             sum_to_root(part, comm);
             if root {
+                // leave the pages of bins nothing reached untouched (most of a drum's are)
                 for (x, v) in self.sums[start..end].iter_mut().zip(part.iter()) {
-                    *x += v;
+                    if *v != 0 {
+                        *x += v;
+                    }
                 }
             }
         }

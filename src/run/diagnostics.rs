@@ -95,6 +95,10 @@ impl RunDiagnostics {
             omega,
         };
         let mut windows = Windows::new(case, &axial);
+        if comm.rank() == 0 {
+            windows.slices.hold_whole();
+            windows.fields.hold_whole();
+        }
         let paths = match restored {
             Some(d) => {
                 let root = comm.rank() == 0;
