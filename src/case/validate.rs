@@ -14,10 +14,11 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 /// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
 pub const STEPS_MAX: f64 = 1e12;
 
-/// Most memory the initial state may take on one rank, in bytes (the whole initial state is
-/// made on every rank from the seed before the slabs take their shares): 16 GiB, about
-/// 3.3e7 particles at `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4). Checked on the estimate of
-/// [`estimated_particles`] before anything is allocated.
+/// Most memory the whole initial state may take, in bytes: 16 GiB, about 3.3e7 particles at
+/// `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4). Each rank makes
+/// only its own slab's part, so on many ranks this is more than needed; it is a limit on the
+/// whole state because the case is checked before the rank count is known. Checked on the
+/// estimate of [`estimated_particles`] before anything is allocated.
 pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
 
 /// Most samples (of the axial profiles, diagnostics, paths, snapshots) or checkpoints a run
@@ -854,7 +855,7 @@ fn size_checks(case: &Case, c: &mut Checker) {
                 InitKind::Particles => "init.particle",
             },
             format!(
-                "the initial state would hold {} particles ({} on every rank, which makes it whole before the slabs take their shares); at most {:.0} GiB ({:.2e} particles) is accepted: a smaller drum, fill or density, or larger particles",
+                "the initial state would hold {} particles ({} in all); at most {:.0} GiB ({:.2e} particles) in all is accepted, whatever the rank count: a smaller drum, fill or density, or larger particles",
                 if n.is_finite() { format!("about {}", derived(n)) } else { derived(n) },
                 gib(bytes),
                 INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
