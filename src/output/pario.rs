@@ -72,9 +72,13 @@ pub fn close(comm: &dyn Comm, f: ParFile) -> Result<(), String> {
 }
 
 /// `r` if every rank's outcome is a success; otherwise an error on every rank (this rank's
-/// own message, or one saying another rank failed).
+/// own message, or one saying another rank failed, whose message that rank logs).
 pub fn together<T>(comm: &dyn Comm, r: hdf5::Result<T>) -> Result<T, String> {
     let ok = comm.all_ok(r.is_ok());
+    // rank 0 reports the run's error; another rank's own reason is logged where it happened
+    if let (Err(e), false) = (&r, comm.rank() == 0) {
+        log::error!("rank {}: {e}", comm.rank());
+    }
     match r {
         Ok(v) if ok => Ok(v),
         Ok(_) => Err("another rank could not write its part of the file (see its message)".into()),

@@ -113,10 +113,15 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         Some(path) => {
             // each rank reads its share of the particles and contacts
             let ck = checkpoint::read_share(path, comm.rank(), comm.size());
+            if let (Err(e), false) = (&ck, root) {
+                // only rank 0 prints the run's error: say what this rank's share showed
+                log::error!("rank {}: {e}", comm.rank());
+            }
             if !comm.all_ok(ck.is_ok()) {
-                return Err(ck
-                    .err()
-                    .unwrap_or_else(|| "another rank could not read the checkpoint".into()));
+                return Err(ck.err().unwrap_or_else(|| {
+                    "another rank could not read its share of the checkpoint (see its message)"
+                        .into()
+                }));
             }
             let ck = ck?;
             check_compatible(&ck.case_text, case, opts.allow_different_case, path)?;
