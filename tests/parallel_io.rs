@@ -159,3 +159,53 @@ fn a_restart_on_8_ranks_reads_only_its_share_of_the_checkpoint() {
     assert_eq!(read.iter().map(|x| x.0).sum::<usize>(), n);
     assert_eq!(read.iter().map(|x| x.1).sum::<usize>(), nh);
 }
+
+#[test]
+fn a_rough_wall_drum_with_histories_restarts_onto_another_rank_count_bit_identically() {
+    // Contacts with the rough wall's particles (which are not in the checkpoint) go to the
+    // rank that owns the wall particle's z. (A rough wall's particle has the curved wall's
+    // friction: with the case's mu_wall = 0 its contacts would keep no history.)
+    let dir = tmpdir();
+    let d = dir.path();
+    let case = case_path("rough.toml");
+    let go = |n: usize, out: &str, rotations: &str, restart: Option<&str>| {
+        let out = d.join(out);
+        let rot = format!("run.rotations={rotations}");
+        let mut args = vec![
+            "run",
+            case.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "model.tangential=\"history\"",
+            "--set",
+            "species.0.mu_wall=0.5",
+            "--set",
+            &rot,
+        ];
+        let ck;
+        if let Some(c) = restart {
+            ck = d.join(c);
+            args.extend(["--restart", ck.to_str().unwrap()]);
+        }
+        let o = mpirun_logged(n, &args, "info");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    go(1, "full.h5", "0.06", None);
+    go(3, "part.h5", "0.031", None);
+    let f = hdf5::File::open(d.join("part.ckpt.h5")).unwrap();
+    let b: Vec<u64> = f.dataset("contacts/id_b").unwrap().read_raw().unwrap();
+    assert!(
+        b.iter()
+            .any(|&id| id >= tumbler::physics::rough_wall::FIRST_ID),
+        "no contact with the rough wall in the checkpoint"
+    );
+    drop(f);
+    go(2, "part.h5", "0.06", Some("part.ckpt.h5"));
+    let full = datasets(&d.join("full.h5"), &["particles"]);
+    let part = datasets(&d.join("part.h5"), &["particles"]);
+    assert_eq!(full.len(), part.len());
+    for (a, b) in full.iter().zip(&part) {
+        assert!(a == b, "3 -> 2 ranks: {} differs", a.0);
+    }
+}
