@@ -265,15 +265,15 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         let rows = Rows::of(comm, p.len() as u64);
         let g = group("particles")?;
         let put = |name: &str, data: &[f64], cols: usize| {
-            pario::write_rows(comm, &f, &g, name, data, cols, rows, true)
+            pario::write_rows(&f, &g, name, data, cols, rows, true)
                 .map(drop)
                 .map_err(on)
         };
         let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
-        pario::write_rows(comm, &f, &g, "id", &ids, 1, rows, true).map_err(on)?;
+        pario::write_rows(&f, &g, "id", &ids, 1, rows, true).map_err(on)?;
         drop(ids);
         let species: Vec<u8> = p.iter().map(|s| s.species).collect();
-        pario::write_rows(comm, &f, &g, "species", &species, 1, rows, true).map_err(on)?;
+        pario::write_rows(&f, &g, "species", &species, 1, rows, true).map_err(on)?;
         drop(species);
         let diameter: Vec<f64> = p.iter().map(|s| s.diameter).collect();
         put("diameter", &diameter, 1)?;
@@ -300,13 +300,13 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         let rows = Rows::of(comm, h.len() as u64);
         let c = group("contacts")?;
         let a: Vec<u64> = h.iter().map(|x| x.0).collect();
-        pario::write_rows(comm, &f, &c, "id_a", &a, 1, rows, true).map_err(on)?;
+        pario::write_rows(&f, &c, "id_a", &a, 1, rows, true).map_err(on)?;
         let b: Vec<u64> = h.iter().map(|x| x.1).collect();
-        pario::write_rows(comm, &f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
+        pario::write_rows(&f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
         let hist: Vec<f64> = h.iter().flat_map(|x| x.2).collect();
-        pario::write_rows(comm, &f, &c, "history", &hist, 3, rows, true).map_err(on)?;
+        pario::write_rows(&f, &c, "history", &hist, 3, rows, true).map_err(on)?;
     }
-    pario::close(comm, f).map_err(on)
+    pario::close(f).map_err(on)
 }
 
 /// Rank 0's part, once every rank has closed `tmp`: the attributes and the diagnostics.

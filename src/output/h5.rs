@@ -311,7 +311,7 @@ pub fn write_together(
         .map_err(on)
         .and_then(|f| {
             let w = write(&f).map_err(on);
-            let c = pario::close(comm, f).map_err(on);
+            let c = pario::close(f).map_err(on);
             w.and(c)
         });
     let reopened = names
@@ -341,7 +341,7 @@ pub fn write_states(
         pario::together(comm, describe(&ds, units, def)).map_err(|e| format!("{name}: {e}"))
     };
     let id: Vec<u64> = states.iter().map(|s| s.id).collect();
-    let ds = pario::write_rows(comm, f, g, "id", &id, 1, rows, false)?;
+    let ds = pario::write_rows(f, g, "id", &id, 1, rows, false)?;
     drop(id);
     described(
         ds,
@@ -350,11 +350,11 @@ pub fn write_states(
         "particle id, stable for the whole run (rows sorted by it)",
     )?;
     let species: Vec<u8> = states.iter().map(|s| s.species).collect();
-    let ds = pario::write_rows(comm, f, g, "species", &species, 1, rows, false)?;
+    let ds = pario::write_rows(f, g, "species", &species, 1, rows, false)?;
     drop(species);
     described(ds, "species", "-", "species index, in case order")?;
     let diameter: Vec<f64> = states.iter().map(|s| s.diameter).collect();
-    let ds = pario::write_rows(comm, f, g, "diameter", &diameter, 1, rows, false)?;
+    let ds = pario::write_rows(f, g, "diameter", &diameter, 1, rows, false)?;
     drop(diameter);
     described(ds, "diameter", LENGTH, "particle diameter")?;
     for (name, get, units, def) in [
@@ -373,7 +373,7 @@ pub fn write_states(
         ),
     ] {
         let v: Vec<f64> = states.iter().flat_map(get).collect();
-        let ds = pario::write_rows(comm, f, g, name, &v, 3, rows, false)?;
+        let ds = pario::write_rows(f, g, name, &v, 3, rows, false)?;
         drop(v);
         described(ds, name, units, def)?;
     }

@@ -21,9 +21,11 @@ use hdf5_sys::h5s::{
 use std::path::Path;
 
 /// A file open on every rank.
-pub struct ParFile {
+pub struct ParFile<'c> {
     /// The file.
     pub file: hdf5::File,
+    /// The ranks that hold it open.
+    pub comm: &'c dyn Comm,
     /// Whether it is open with the MPI-IO driver (rows are then written collectively).
     pub mpio: bool,
 }
@@ -39,7 +41,7 @@ fn access(comm: &dyn Comm, p: &mut hdf5::plist::FileAccessBuilder, v110: bool) {
 
 /// Create `path` on every rank (replacing a file there); `v110`: metadata in the 1.10
 /// format, whose object headers are checksummed.
-pub fn create(comm: &dyn Comm, path: &Path, v110: bool) -> hdf5::Result<ParFile> {
+pub fn create<'c>(comm: &'c dyn Comm, path: &Path, v110: bool) -> hdf5::Result<ParFile<'c>> {
     let file = hdf5::File::with_options()
         .with_fapl(|p| {
             access(comm, p, v110);
@@ -48,12 +50,13 @@ pub fn create(comm: &dyn Comm, path: &Path, v110: bool) -> hdf5::Result<ParFile>
         .create(path)?;
     Ok(ParFile {
         file,
+        comm,
         mpio: comm.raw().is_some(),
     })
 }
 
 /// Open the existing `path` for writing on every rank.
-pub fn open_rw(comm: &dyn Comm, path: &Path) -> hdf5::Result<ParFile> {
+pub fn open_rw<'c>(comm: &'c dyn Comm, path: &Path) -> hdf5::Result<ParFile<'c>> {
     let file = hdf5::File::with_options()
         .with_fapl(|p| {
             access(comm, p, false);
@@ -62,13 +65,14 @@ pub fn open_rw(comm: &dyn Comm, path: &Path) -> hdf5::Result<ParFile> {
         .open_rw(path)?;
     Ok(ParFile {
         file,
+        comm,
         mpio: comm.raw().is_some(),
     })
 }
 
 /// Close the file on every rank (a collective flush of its metadata), reporting failures.
-pub fn close(comm: &dyn Comm, f: ParFile) -> Result<(), String> {
-    together(comm, f.file.close())
+pub fn close(f: ParFile) -> Result<(), String> {
+    together(f.comm, f.file.close())
 }
 
 /// `r` if every rank's outcome is a success; otherwise an error on every rank (this rank's
@@ -133,7 +137,6 @@ pub const CHUNK_ROWS: u64 = 1 << 16;
 /// `checksum`: chunked with a Fletcher32 checksum per chunk (when not empty). The ranks
 /// agree on the outcome before returning.
 pub fn write_rows<T: H5Type>(
-    comm: &dyn Comm,
     f: &ParFile,
     g: &hdf5::Group,
     name: &str,
@@ -143,7 +146,7 @@ pub fn write_rows<T: H5Type>(
     checksum: bool,
 ) -> Result<hdf5::Dataset, String> {
     let r = write_rows_here(f, g, name, data, cols, rows, checksum);
-    together(comm, r).map_err(|e| format!("{name}: {e}"))
+    together(f.comm, r).map_err(|e| format!("{name}: {e}"))
 }
 
 fn write_rows_here<T: H5Type>(
