@@ -41,12 +41,13 @@ pub struct RunMeta {
 
 /// An open output file being written.
 pub struct RunFile {
-    file: hdf5::File,
-    final_path: PathBuf,
-    partial_path: PathBuf,
+    // the datasets first: fields are dropped in order, and the file is closed after them
     rotations: hdf5::Dataset,
     volume_fraction: hdf5::Dataset,
     count: hdf5::Dataset,
+    file: hdf5::File,
+    final_path: PathBuf,
+    partial_path: PathBuf,
 }
 
 /// The name a file is written under until it is complete.
