@@ -6,7 +6,10 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 
-pkgs="libopenmpi-dev openmpi-bin libhdf5-dev libclang-dev pkg-config"
+# HDF5 built with MPI-IO (every rank writes its rows of the O(N) datasets): installing it
+# makes pkg-config's `hdf5` the MPI build (an alternative of higher priority than the serial
+# libhdf5-dev, which may be installed too).
+pkgs="libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libclang-dev pkg-config"
 missing=""
 for p in $pkgs; do
   dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
@@ -17,6 +20,11 @@ if [ -n "$missing" ]; then
   echo "installing:$missing"
   $sudo apt-get update -qq
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing >/dev/null
+fi
+if ! pkg-config --cflags hdf5 2>/dev/null | grep -q mpi; then
+  echo "error: pkg-config's hdf5 is not the MPI build ($(pkg-config --cflags hdf5 2>&1));" \
+    "select it with: update-alternatives --set hdf5.pc /usr/lib/x86_64-linux-gnu/pkgconfig/hdf5-openmpi.pc" >&2
+  exit 1
 fi
 if ! command -v cargo >/dev/null 2>&1; then
   echo "error: cargo not found; install Rust (https://rustup.rs) and run this again" >&2

@@ -306,7 +306,7 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
             return ExitCode::from(1);
         }
     }
-    match validate(&comm, &opts) {
+    let code = match validate(&comm, &opts) {
         Ok(ValidateEnd::Judged { passed: true, .. }) => ExitCode::SUCCESS,
         Ok(ValidateEnd::Judged { passed: false, .. }) if root => ExitCode::from(EXIT_CHECK_FAILED),
         Ok(ValidateEnd::Judged { .. }) => ExitCode::SUCCESS,
@@ -325,10 +325,12 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
             }
             ExitCode::from(1)
         }
-    }
+    };
+    code
 }
 
 fn main() -> ExitCode {
+    tumbler::output::pario::start_library();
     let cli = Cli::parse();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
         .format_timestamp_secs()
@@ -439,7 +441,7 @@ fn main() -> ExitCode {
                 new_output,
                 stop: Some(stop),
             };
-            match run(&lc, &comm, &opts) {
+            let code = match run(&lc, &comm, &opts) {
                 Ok(RunEnd::Finished(_)) => ExitCode::SUCCESS,
                 Ok(RunEnd::Stopped { .. }) => ExitCode::from(EXIT_STOPPED),
                 Err(e) => {
@@ -448,7 +450,8 @@ fn main() -> ExitCode {
                     }
                     ExitCode::from(1)
                 }
-            }
+            };
+            code
         }
     }
 }

@@ -8,6 +8,11 @@ mod serial;
 pub use mpi_comm::MpiComm;
 pub use serial::SerialComm;
 
+/// An MPI communicator as the C library knows it, for the HDF5 MPI-IO file driver
+/// (`output::pario`): opaque everywhere else.
+#[derive(Clone, Copy)]
+pub struct RawComm(pub mpi::ffi::MPI_Comm);
+
 /// What the engine needs from the ranks around it.
 pub trait Comm {
     /// This rank's index.
@@ -81,4 +86,10 @@ pub trait Comm {
             .collect();
         Some(String::from_utf8_lossy(&bytes).into_owned())
     }
+    /// Sum of `x` over the ranks below this one (0 on rank 0): where this rank's rows start
+    /// in a dataset every rank writes a part of.
+    fn exscan_u64(&self, x: u64) -> u64;
+    /// The communicator for files every rank opens together (HDF5's MPI-IO driver); `None`
+    /// without MPI, where files are written with HDF5's default driver.
+    fn raw(&self) -> Option<RawComm>;
 }

@@ -1,8 +1,9 @@
 //! MPI through rsmpi: the only file in the crate that speaks MPI.
 
-use super::Comm;
+use super::{Comm, RawComm};
 use mpi::collective::SystemOperation;
 use mpi::datatype::PartitionMut;
+use mpi::raw::AsRaw;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
@@ -228,5 +229,21 @@ impl Comm for MpiComm {
     fn all_ok(&self, ok: bool) -> bool {
         let x = if ok { 0u64 } else { 1 };
         self.sum_u64(x) == 0
+    }
+
+    fn exscan_u64(&self, x: u64) -> u64 {
+        let mut y = 0u64;
+        self.world
+            .exclusive_scan_into(&x, &mut y, SystemOperation::sum());
+        // MPI leaves rank 0's result undefined
+        if self.rank() == 0 {
+            0
+        } else {
+            y
+        }
+    }
+
+    fn raw(&self) -> Option<RawComm> {
+        Some(RawComm(self.world.as_raw()))
     }
 }

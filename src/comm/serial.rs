@@ -1,6 +1,6 @@
 //! A single rank without MPI: exchanges with itself are buffer swaps.
 
-use super::Comm;
+use super::{Comm, RawComm};
 
 /// The one-rank communicator.
 #[derive(Debug, Default, Clone, Copy)]
@@ -68,5 +68,11 @@ impl Comm for SerialComm {
     }
     fn all_ok(&self, ok: bool) -> bool {
         ok
+    }
+    fn exscan_u64(&self, _x: u64) -> u64 {
+        0
+    }
+    fn raw(&self) -> Option<RawComm> {
+        None
     }
 }

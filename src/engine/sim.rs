@@ -127,6 +127,12 @@ impl<'c> Sim<'c> {
     /// Continue a run from a checkpoint's particles (with their last forces), contact
     /// histories and step, on this communicator's ranks; the next `step()` is the one the
     /// interrupted run would have taken.
+    ///
+    /// Each rank passes its own share of the checkpoint, as read: `particles` sorted by id,
+    /// the ranks' shares in increasing order of id (rows `[r N/P, (r+1) N/P)`, say), and any
+    /// share of the histories, each held by one rank. A history first goes to the ranks that
+    /// hold its two particles, then particles go to the ranks that own their `z` with the
+    /// histories they are part of, as after a rebalance (the irregular migration).
     pub fn resume(
         case: &Case,
         comm: &'c dyn Comm,
@@ -134,11 +140,65 @@ impl<'c> Sim<'c> {
         histories: SavedHistory,
         step: u64,
     ) -> Result<Self, DecompositionError> {
-        let mut sim = Self::assemble(case, comm, particles)?;
+        let mut sim = Self::assemble(case, comm, &[])?;
+        let saved = sim.route_to_holders(particles, histories);
+        for s in particles {
+            sim.p.push_owned(s, &sim.mat);
+        }
         sim.step = step;
         sim.turn_rough_wall(sim.walls.omega * step as f64 * sim.dt);
-        sim.rebuild_with(histories, true);
+        sim.rebuild_with(saved, true);
         Ok(sim)
+    }
+
+    /// Send each history of `histories` to the ranks that hold its particles: for a mobile
+    /// particle, the rank whose share of `particles` (ranks in increasing order of id) has its
+    /// id; for a rough wall's, the owner of its `z`, where `assemble` put it. Returns the
+    /// histories this rank receives, sorted by ids.
+    fn route_to_holders(
+        &self,
+        particles: &[ParticleState],
+        histories: SavedHistory,
+    ) -> SavedHistory {
+        let (me, size) = (self.comm.rank(), self.comm.size());
+        let mut first = vec![0u64; 2 * size];
+        if let Some(s) = particles.first() {
+            first[2 * me] = s.id;
+            first[2 * me + 1] = 1;
+        }
+        self.comm.sum_u64_all(&mut first);
+        let starts: Vec<(u64, usize)> = (0..size)
+            .filter(|&r| first[2 * r + 1] == 1)
+            .map(|r| (first[2 * r], r))
+            .collect();
+        let omega = self.walls.omega;
+        let holder = |id: u64| -> usize {
+            if let Some(rw) = self
+                .rough
+                .filter(|_| id >= crate::physics::rough_wall::FIRST_ID)
+            {
+                return self.slabs.owner(rw.place(id, 0.0, omega).0[2]);
+            }
+            let k = starts.partition_point(|x| x.0 <= id);
+            starts.get(k.saturating_sub(1)).map_or(0, |x| x.1)
+        };
+        let mut to = vec![Vec::new(); size];
+        for (a, b, h) in histories {
+            let (ra, rb) = (holder(a), holder(b));
+            for r in [Some(ra), (rb != ra).then_some(rb)].into_iter().flatten() {
+                to[r].extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+            }
+        }
+        let got = self.comm.all_to_all(&to);
+        drop(to);
+        let mut saved: SavedHistory = got
+            .iter()
+            .flat_map(|m| m.chunks_exact(5))
+            .map(|r| (r[0] as u64, r[1] as u64, [r[2], r[3], r[4]]))
+            .collect();
+        saved.sort_unstable_by_key(|x| (x.0, x.1));
+        saved.dedup_by_key(|x| (x.0, x.1));
+        saved
     }
 
     /// The rank's particles and machinery, before any list or force.
@@ -632,40 +692,103 @@ impl<'c> Sim<'c> {
         self.comm.sum_u64(mobile as u64)
     }
 
-    /// Every contact history, sorted by ids and each once, on rank 0 (`None` elsewhere).
-    pub fn gather_histories(&self) -> Option<SavedHistory> {
+    /// Which rank keeps which ids in the files' id order ([`Sim::particles_by_id`]): a
+    /// histogram of the mobile ids (summed over ranks) cut into shares of about N/P
+    /// particles. Returns the histogram's bin width in ids and each bin's rank.
+    fn id_shares(&self) -> (u64, Vec<usize>) {
+        let size = self.comm.size();
+        let mobile = || (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
+        // ids are below 2^53 (they travel as f64), so the maximum is exact
+        let top = self.comm.max_f64(
+            mobile()
+                .map(|i| self.p.id[i])
+                .max()
+                .map_or(0.0, |m| m as f64),
+        ) as u64;
+        let bins = (16 * size).min(1 << 20) as u64;
+        let width = (top / bins + 1).max(1);
+        let mut hist = vec![0u64; bins as usize];
+        for i in mobile() {
+            hist[((self.p.id[i] / width) as usize).min(bins as usize - 1)] += 1;
+        }
+        self.comm.sum_u64_all(&mut hist);
+        let n: u64 = hist.iter().sum();
+        let mut before = 0u64;
+        let owner = hist
+            .iter()
+            .map(|&c| {
+                let r = (before as u128 * size as u128 / n.max(1) as u128) as usize;
+                before += c;
+                r.min(size - 1)
+            })
+            .collect();
+        (width, owner)
+    }
+
+    /// Send every record (`words` values each, its key from `key`) to the rank of its id's
+    /// share (`id_shares`); what this rank receives, flattened.
+    fn to_shares(
+        &self,
+        records: &[f64],
+        words: usize,
+        key: impl Fn(&[f64]) -> u64,
+        shares: &(u64, Vec<usize>),
+    ) -> Vec<f64> {
+        let (width, owner) = shares;
+        let mut to = vec![Vec::new(); self.comm.size()];
+        for r in records.chunks_exact(words) {
+            let bin = ((key(r) / width) as usize).min(owner.len() - 1);
+            to[owner[bin]].extend_from_slice(r);
+        }
+        let got = self.comm.all_to_all(&to);
+        drop(to);
+        got.concat()
+    }
+
+    /// This rank's share of every mobile particle's state, sorted by id, the ranks' shares
+    /// following in increasing order of id (about N/P each): what each rank writes of a
+    /// file's particles (all ranks call this together).
+    pub fn particles_by_id(&self) -> Vec<ParticleState> {
+        self.particles_and_histories(false).0
+    }
+
+    /// This rank's share of the particles (as [`Sim::particles_by_id`]) and of the contact
+    /// histories, sorted by ids, each once (a contact across a slab face is held, identically,
+    /// by both ranks), a contact in the share of its lower id (all ranks call this together).
+    pub fn particles_and_histories(
+        &self,
+        with_histories: bool,
+    ) -> (Vec<ParticleState>, SavedHistory) {
+        let shares = self.id_shares();
+        let words = crate::particles::PACKED_WORDS;
+        let mut buf = Vec::with_capacity(self.p.n_owned * words);
+        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
+            self.p.pack(i, &mut buf);
+        }
+        let mine = self.to_shares(&buf, words, |r| r[0] as u64, &shares);
+        drop(buf);
+        let mut states: Vec<ParticleState> = mine
+            .chunks_exact(words)
+            .map(crate::particles::unpack)
+            .collect();
+        drop(mine);
+        // ids are unique: an unstable sort gives the same order, in place
+        states.sort_unstable_by_key(|s| s.id);
+        if !with_histories {
+            return (states, Vec::new());
+        }
         let mut buf = Vec::new();
         for (a, b, h) in self.saved_histories() {
             buf.extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
         }
-        let all = self.comm.gather_f64(&buf)?;
-        let mut out: SavedHistory = all
+        let mine = self.to_shares(&buf, 5, |r| r[0] as u64, &shares);
+        drop(buf);
+        let mut out: SavedHistory = mine
             .chunks_exact(5)
             .map(|r| (r[0] as u64, r[1] as u64, [r[2], r[3], r[4]]))
             .collect();
-        // a contact across a slab face is held, identically, by both ranks
         out.sort_unstable_by_key(|x| (x.0, x.1));
         out.dedup_by_key(|x| (x.0, x.1));
-        Some(out)
-    }
-
-    /// Every particle's state, sorted by id, on rank 0 (`None` elsewhere).
-    pub fn gather_sorted(&self) -> Option<Vec<ParticleState>> {
-        let mut buf = Vec::with_capacity(self.p.n_owned * crate::particles::PACKED_WORDS);
-        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
-            self.p.pack(i, &mut buf);
-        }
-        // free each buffer as soon as it is used: this gather is the run's memory peak
-        let all = self.comm.gather_f64(&buf);
-        drop(buf);
-        let all = all?;
-        let mut states: Vec<ParticleState> = all
-            .chunks_exact(crate::particles::PACKED_WORDS)
-            .map(crate::particles::unpack)
-            .collect();
-        drop(all);
-        // ids are unique: an unstable sort gives the same order, in place
-        states.sort_unstable_by_key(|s| s.id);
-        Some(states)
+        (states, out)
     }
 }

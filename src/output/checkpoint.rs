@@ -1,19 +1,25 @@
 //! Checkpoints: the complete state of a run, from which `tumbler run --restart` continues
 //! bit-identically to a run never interrupted, on the same or another number of ranks.
 //!
-//! One HDF5 file, written by rank 0: every mobile particle (id, species, diameter, position,
+//! One HDF5 file, written by every rank: every mobile particle (id, species, diameter, position,
 //! velocity, spin, the force and torque of the last evaluation, which the next half kick
 //! uses, and its wall histories), every contact history keyed by the pair's ids, the step,
 //! the number of axial samples written, the case text, and the diagnostics' windows in
-//! progress (exact sums, so a restart averages the same bits). It is written as `NAME.tmp`,
-//! flushed to disk and renamed over `NAME`, so the previous checkpoint stays whole until the
-//! new one is; a failed write (a full disk) removes the temporary file. (The run draws no
-//! random numbers after the initial state, so there is no generator state to keep.)
+//! progress (exact sums, so a restart averages the same bits). The particles and contacts
+//! are written by all ranks together, each its own rows (`output::pario`: MPI-IO, a share of
+//! about N/P rows of the id order per rank, [`crate::engine::Sim::particles_and_histories`]);
+//! rank 0 then adds the attributes and the diagnostics (small). It is written as `NAME.tmp`,
+//! flushed to disk and renamed over `NAME` by rank 0 once every rank has closed it, so the
+//! previous checkpoint stays whole until the new one is; a failed write (a full disk) removes
+//! the temporary file. A restart reads only its share of the rows ([`read_share`]). (The run
+//! draws no random numbers after the initial state, so there is no generator state to keep.)
 //!
 //! Every dataset carries HDF5's Fletcher32 checksum (HDF5 verifies it on every read) and the
 //! file's metadata is written in the 1.10 format, whose object headers are checksummed too,
 //! so a damaged checkpoint is refused on restart instead of loading wrong numbers.
 
+use super::pario::{self, Rows};
+use crate::comm::Comm;
 use crate::diag::windows::AngleSums;
 use crate::engine::neighbor::SavedHistory;
 use crate::particles::ParticleState;
@@ -33,10 +39,13 @@ pub struct Checkpoint {
     pub step: u64,
     /// Axial samples written to the output so far.
     pub samples: u64,
-    /// Mobile particles, sorted by id.
+    /// Mobile particles, sorted by id: this rank's share (being written, or read by
+    /// [`read_share`]), the ranks' shares in increasing order of id.
     pub particles: Vec<ParticleState>,
-    /// Contact histories, sorted by ids.
+    /// Contact histories, sorted by ids: this rank's share, as the particles.
     pub histories: SavedHistory,
+    /// Mobile particles in the whole checkpoint (set when read).
+    pub n_particles: u64,
     /// The windows in progress and the particles followed.
     pub diag: DiagState,
 }
@@ -62,8 +71,11 @@ pub struct SavedSums {
     pub samples: u64,
     /// Sum of their frame angles, degrees.
     pub angle_sum: f64,
-    /// Fixed-point sums (see `diag::grid::BinnedSums`).
+    /// Fixed-point sums (see `diag::grid::BinnedSums`): whole on rank 0, empty on the
+    /// other ranks of a restart (they add theirs from then on).
     pub sums: Vec<i128>,
+    /// How many sums the window holds (`sums.len()` where they were read).
+    pub len: usize,
 }
 
 fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
@@ -149,7 +161,9 @@ fn read_error(path: &Path, name: &str, e: &hdf5::Error) -> String {
     }
 }
 
-fn read_diag(f: &hdf5::File, path: &Path) -> Result<DiagState, String> {
+/// The diagnostics state; the window sums themselves only if `sums_too` (rank 0: the other
+/// ranks only need their length).
+fn read_diag(f: &hdf5::File, path: &Path, sums_too: bool) -> Result<DiagState, String> {
     let e = err(path);
     let g = f.group("diagnostics").map_err(&e)?;
     let attr_u64 = |name: &str| -> Result<u64, String> {
@@ -159,6 +173,18 @@ fn read_diag(f: &hdf5::File, path: &Path) -> Result<DiagState, String> {
         g.attr(name).and_then(|a| a.read_scalar()).map_err(&e)
     };
     let sums = |name: &str| -> Result<SavedSums, String> {
+        if !sums_too {
+            let len = f
+                .dataset(&format!("diagnostics/{name}_hi"))
+                .map_err(&e)?
+                .size();
+            return Ok(SavedSums {
+                samples: attr_u64(&format!("{name}_samples"))?,
+                angle_sum: attr_f64(&format!("{name}_angle_sum"))?,
+                sums: Vec::new(),
+                len,
+            });
+        }
         let hi: Vec<i64> = get(f, path, &format!("diagnostics/{name}_hi"))?;
         let lo: Vec<u64> = get(f, path, &format!("diagnostics/{name}_lo"))?;
         if hi.len() != lo.len() {
@@ -167,7 +193,7 @@ fn read_diag(f: &hdf5::File, path: &Path) -> Result<DiagState, String> {
                 path.display()
             ));
         }
-        let v = hi
+        let v: Vec<i128> = hi
             .iter()
             .zip(&lo)
             .map(|(&h, &l)| ((h as i128) << 64) | l as i128)
@@ -175,6 +201,7 @@ fn read_diag(f: &hdf5::File, path: &Path) -> Result<DiagState, String> {
         Ok(SavedSums {
             samples: attr_u64(&format!("{name}_samples"))?,
             angle_sum: attr_f64(&format!("{name}_angle_sum"))?,
+            len: v.len(),
             sums: v,
         })
     };
@@ -207,31 +234,105 @@ pub fn tmp_path(path: &Path) -> PathBuf {
     PathBuf::from(tmp)
 }
 
-/// Write `ck` to `path` atomically: written whole under [`tmp_path`], synced, then renamed
-/// over `path`. On any error the temporary file is removed and `path` is left as it was.
-pub fn write(path: &Path, ck: &Checkpoint) -> Result<(), String> {
+/// Write `ck` to `path` atomically (all ranks call this together, each with its share of
+/// the particles and histories; `ck.diag` is rank 0's): written whole under [`tmp_path`],
+/// synced, then renamed over `path`. On any error, on any rank, every rank returns it, the
+/// temporary file is removed and `path` is left as it was.
+pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String> {
     let tmp = tmp_path(path);
-    let written = write_file(&tmp, ck).and_then(|()| {
-        std::fs::File::open(&tmp)
-            .and_then(|f| f.sync_all())
-            .and_then(|()| std::fs::rename(&tmp, path))
-            .map_err(|x| format!("checkpoint {}: {x}", path.display()))
+    let root = comm.rank() == 0;
+    let written = write_rows_of_all(comm, &tmp, ck).and_then(|()| {
+        let r = if root {
+            finish_file(&tmp, ck).and_then(|()| {
+                std::fs::File::open(&tmp)
+                    .and_then(|f| f.sync_all())
+                    .and_then(|()| std::fs::rename(&tmp, path))
+                    .map_err(|x| format!("checkpoint {}: {x}", path.display()))
+            })
+        } else {
+            Ok(())
+        };
+        let ok = comm.all_ok(r.is_ok());
+        match r {
+            Ok(()) if !ok => Err(format!(
+                "checkpoint {}: rank 0 could not finish it",
+                path.display()
+            )),
+            r => r,
+        }
     });
     if let Err(e) = written {
-        let _ = std::fs::remove_file(&tmp);
+        if root {
+            let _ = std::fs::remove_file(&tmp);
+        }
         return Err(format!("{e}; the previous checkpoint, if any, is kept"));
     }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && root) {
         let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
     }
     Ok(())
 }
 
-fn write_file(tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
+/// Every rank's rows of the particles and contacts, into a new `tmp` (collective).
+fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
+    let on = |e: String| format!("checkpoint {}: {e}", tmp.display());
+    let f = pario::together(comm, pario::create(comm, tmp, true)).map_err(on)?;
+    {
+        let group = |name: &str| pario::together(comm, f.file.create_group(name)).map_err(on);
+        let p = &ck.particles;
+        let rows = Rows::of(comm, p.len() as u64);
+        let g = group("particles")?;
+        let put = |name: &str, data: &[f64], cols: usize| {
+            pario::write_rows(&f, &g, name, data, cols, rows, true)
+                .map(drop)
+                .map_err(on)
+        };
+        let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
+        pario::write_rows(&f, &g, "id", &ids, 1, rows, true).map_err(on)?;
+        drop(ids);
+        let species: Vec<u8> = p.iter().map(|s| s.species).collect();
+        pario::write_rows(&f, &g, "species", &species, 1, rows, true).map_err(on)?;
+        drop(species);
+        let diameter: Vec<f64> = p.iter().map(|s| s.diameter).collect();
+        put("diameter", &diameter, 1)?;
+        drop(diameter);
+        type Get = fn(&ParticleState) -> [f64; 3];
+        for (name, get) in [
+            ("position", (|s| s.x) as Get),
+            ("velocity", |s| s.v),
+            ("angular_velocity", |s| s.w),
+            ("force", |s| s.f),
+            ("torque", |s| s.t),
+        ] {
+            let rows: Vec<f64> = p.iter().flat_map(get).collect();
+            put(name, &rows, 3)?;
+        }
+        let wall: Vec<f64> = p
+            .iter()
+            .flat_map(|s| s.wall_hist.iter().flatten().copied())
+            .collect();
+        put("wall_history", &wall, 3 * WALLS)?;
+        drop(wall);
+        drop(g);
+        let h = &ck.histories;
+        let rows = Rows::of(comm, h.len() as u64);
+        let c = group("contacts")?;
+        let a: Vec<u64> = h.iter().map(|x| x.0).collect();
+        pario::write_rows(&f, &c, "id_a", &a, 1, rows, true).map_err(on)?;
+        let b: Vec<u64> = h.iter().map(|x| x.1).collect();
+        pario::write_rows(&f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
+        let hist: Vec<f64> = h.iter().flat_map(|x| x.2).collect();
+        pario::write_rows(&f, &c, "history", &hist, 3, rows, true).map_err(on)?;
+    }
+    pario::close(f).map_err(on)
+}
+
+/// Rank 0's part, once every rank has closed `tmp`: the attributes and the diagnostics.
+fn finish_file(tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
     let e = err(tmp);
     let f = hdf5::File::with_options()
         .with_fapl(|p| p.libver_v110())
-        .create(tmp)
+        .open_rw(tmp)
         .map_err(&e)?;
     let text = VarLenUnicode::from_str(&ck.case_text).map_err(|x| format!("checkpoint: {x}"))?;
     f.new_attr::<VarLenUnicode>()
@@ -249,47 +350,20 @@ fn write_file(tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
             .and_then(|a| a.write_scalar(&v))
             .map_err(&e)?;
     }
-    let p = &ck.particles;
-    let g = f.create_group("particles").map_err(&e)?;
-    let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
-    put(&g, "id", &ids, 1).map_err(&e)?;
-    drop(ids);
-    let species: Vec<u8> = p.iter().map(|s| s.species).collect();
-    put(&g, "species", &species, 1).map_err(&e)?;
-    let diameter: Vec<f64> = p.iter().map(|s| s.diameter).collect();
-    put(&g, "diameter", &diameter, 1).map_err(&e)?;
-    type Get = fn(&ParticleState) -> [f64; 3];
-    for (name, get) in [
-        ("position", (|s| s.x) as Get),
-        ("velocity", |s| s.v),
-        ("angular_velocity", |s| s.w),
-        ("force", |s| s.f),
-        ("torque", |s| s.t),
-    ] {
-        let rows: Vec<f64> = p.iter().flat_map(get).collect();
-        put(&g, name, &rows, 3).map_err(&e)?;
-    }
-    let wall: Vec<f64> = p
-        .iter()
-        .flat_map(|s| s.wall_hist.iter().flatten().copied())
-        .collect();
-    put(&g, "wall_history", &wall, 3 * WALLS).map_err(&e)?;
-    drop(wall);
-    let h = &ck.histories;
-    let c = f.create_group("contacts").map_err(&e)?;
-    let a: Vec<u64> = h.iter().map(|x| x.0).collect();
-    put(&c, "id_a", &a, 1).map_err(&e)?;
-    let b: Vec<u64> = h.iter().map(|x| x.1).collect();
-    put(&c, "id_b", &b, 1).map_err(&e)?;
-    let hist: Vec<f64> = h.iter().flat_map(|x| x.2).collect();
-    put(&c, "history", &hist, 3).map_err(&e)?;
     write_diag(&f, &ck.diag).map_err(&e)?;
     f.flush().map_err(&e)?;
-    Ok(())
+    f.close().map_err(&e)
 }
 
-/// Read a checkpoint (every dataset's checksum is verified).
+/// Read a whole checkpoint (every dataset's checksum is verified).
 pub fn read(path: &Path) -> Result<Checkpoint, String> {
+    read_share(path, 0, 1)
+}
+
+/// Read rank `rank`'s share (of `size` ranks) of a checkpoint: rows `[r N/P, (r+1) N/P)`
+/// of the particles and of the contacts (the checksums of the chunks read are verified),
+/// and the small rest whole.
+pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, String> {
     let e = err(path);
     let f = hdf5::File::open(path).map_err(&e)?;
     let case_text: VarLenUnicode = f.attr("case").and_then(|a| a.read_scalar()).map_err(&e)?;
@@ -298,11 +372,42 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
         .attr("samples")
         .and_then(|a| a.read_scalar())
         .map_err(&e)?;
-    let id: Vec<u64> = get(&f, path, "particles/id")?;
-    let species: Vec<u8> = get(&f, path, "particles/species")?;
-    let diameter: Vec<f64> = get(&f, path, "particles/diameter")?;
-    let v3 =
-        |name: &str| -> Result<Vec<f64>, String> { get(&f, path, &format!("particles/{name}")) };
+    let rows_of = |names: &[(&str, usize)]| -> Result<u64, String> {
+        let mut n = None;
+        for &(name, cols) in names {
+            let shape = f.dataset(name).map_err(&e)?.shape();
+            let rows = shape.first().copied().unwrap_or(0) as u64;
+            let width = shape.get(1).copied().unwrap_or(1);
+            if width != cols || n.is_some_and(|n| n != rows) {
+                return Err(format!(
+                    "checkpoint {}: the datasets of {} differ in length",
+                    path.display(),
+                    name.split('/').next().unwrap_or(name)
+                ));
+            }
+            n = Some(rows);
+        }
+        Ok(n.unwrap_or(0))
+    };
+    let n = rows_of(&[
+        ("particles/id", 1),
+        ("particles/species", 1),
+        ("particles/diameter", 1),
+        ("particles/position", 3),
+        ("particles/velocity", 3),
+        ("particles/angular_velocity", 3),
+        ("particles/force", 3),
+        ("particles/torque", 3),
+        ("particles/wall_history", 3 * WALLS),
+    ])?;
+    let rows = Rows::share(n, rank, size);
+    let get = |name: &str, cols: usize, rows: Rows| -> Result<Vec<f64>, String> {
+        get_rows(&f, path, name, cols, rows)
+    };
+    let id: Vec<u64> = get_rows(&f, path, "particles/id", 1, rows)?;
+    let species: Vec<u8> = get_rows(&f, path, "particles/species", 1, rows)?;
+    let diameter = get("particles/diameter", 1, rows)?;
+    let v3 = |name: &str| get(&format!("particles/{name}"), 3, rows);
     let (x, v, w, force, torque) = (
         v3("position")?,
         v3("velocity")?,
@@ -310,21 +415,9 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
         v3("force")?,
         v3("torque")?,
     );
-    let wall = v3("wall_history")?;
-    let n = id.len();
-    if [species.len(), diameter.len()].iter().any(|&k| k != n)
-        || [x.len(), v.len(), w.len(), force.len(), torque.len()]
-            .iter()
-            .any(|&k| k != 3 * n)
-        || wall.len() != 3 * WALLS * n
-    {
-        return Err(format!(
-            "checkpoint {}: the particle datasets differ in length",
-            path.display()
-        ));
-    }
+    let wall = get("particles/wall_history", 3 * WALLS, rows)?;
     let t3 = |a: &[f64], i: usize| [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
-    let particles = (0..n)
+    let particles = (0..id.len())
         .map(|i| {
             let mut s = ParticleState::new(
                 id[i],
@@ -342,15 +435,16 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
             s
         })
         .collect();
-    let a: Vec<u64> = get(&f, path, "contacts/id_a")?;
-    let b: Vec<u64> = get(&f, path, "contacts/id_b")?;
-    let h: Vec<f64> = get(&f, path, "contacts/history")?;
-    if b.len() != a.len() || h.len() != 3 * a.len() {
-        return Err(format!(
-            "checkpoint {}: the contact datasets differ in length",
-            path.display()
-        ));
-    }
+    drop((x, v, w, force, torque, wall));
+    let nh = rows_of(&[
+        ("contacts/id_a", 1),
+        ("contacts/id_b", 1),
+        ("contacts/history", 3),
+    ])?;
+    let hrows = Rows::share(nh, rank, size);
+    let a: Vec<u64> = get_rows(&f, path, "contacts/id_a", 1, hrows)?;
+    let b: Vec<u64> = get_rows(&f, path, "contacts/id_b", 1, hrows)?;
+    let h = get("contacts/history", 3, hrows)?;
     let histories = (0..a.len()).map(|i| (a[i], b[i], t3(&h, i))).collect();
     if !f.link_exists("diagnostics") {
         return Err(format!(
@@ -358,13 +452,28 @@ pub fn read(path: &Path) -> Result<Checkpoint, String> {
             path.display()
         ));
     }
-    let diag = read_diag(&f, path)?;
+    let diag = read_diag(&f, path, rank == 0)?;
     Ok(Checkpoint {
         case_text: case_text.as_str().to_string(),
         step,
         samples,
         particles,
         histories,
+        n_particles: n,
         diag,
     })
+}
+
+/// Read `rows` of dataset `name` (`cols` values each); a checksum failure says the checkpoint
+/// is damaged.
+fn get_rows<T: H5Type>(
+    f: &hdf5::File,
+    path: &Path,
+    name: &str,
+    cols: usize,
+    rows: Rows,
+) -> Result<Vec<T>, String> {
+    f.dataset(name)
+        .and_then(|d| pario::read_rows(&d, cols, rows))
+        .map_err(|e| read_error(path, name, &e))
 }

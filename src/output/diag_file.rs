@@ -373,21 +373,28 @@ pub fn snapshot_name(step: u64) -> String {
     format!("snapshots/{step:010}")
 }
 
-/// Write a snapshot of every particle (sorted by id) taken at `step`.
+/// Write a snapshot of every particle (sorted by id) taken at `step` into the open `f` (all
+/// ranks together, each its share of `states`, as `h5::write_states`).
 pub fn write_snapshot(
-    file: &File,
+    comm: &dyn crate::comm::Comm,
+    f: &super::pario::ParFile,
     step: u64,
     rotations: f64,
     states: &[ParticleState],
-) -> hdf5::Result<()> {
-    group(file, "snapshots")?;
-    let g = file.create_group(&snapshot_name(step))?;
-    super::h5::write_states(&g, states)?;
-    g.new_attr::<u64>().create("step")?.write_scalar(&step)?;
-    g.new_attr::<f64>()
-        .create("rotations")?
-        .write_scalar(&rotations)?;
-    file.flush()
+) -> Result<(), String> {
+    use super::pario::together;
+    let file = &f.file;
+    together(comm, group(file, "snapshots"))?;
+    let g = together(comm, file.create_group(&snapshot_name(step)))?;
+    super::h5::write_states(comm, f, &g, states)?;
+    together(
+        comm,
+        g.new_attr::<u64>()
+            .create("step")
+            .and_then(|a| a.write_scalar(&step))
+            .and_then(|()| g.new_attr::<f64>().create("rotations"))
+            .and_then(|a| a.write_scalar(&rotations)),
+    )
 }
 
 /// The snapshots in the file: `(group name, rotations, particles)` in step order.

@@ -1,4 +1,5 @@
-//! The run's HDF5 file, written by rank 0.
+//! The run's HDF5 file, written by rank 0, except the O(N) datasets (`/particles`, the
+//! snapshots), which every rank writes its rows of ([`write_together`]).
 //!
 //! Public layout (read by users' scripts; keep the names):
 //! - `/axial/rotations` (T), `/axial/z` (Z), `/axial/volume_fraction` (T x S x Z),
@@ -17,11 +18,13 @@
 //! ([`verify`]) and refuses one that a failed write (a full disk) left unreadable.
 
 use super::diag_file::DiagLayout;
+use super::pario::{self, ParFile, Rows};
 use super::series::{self, describe};
+use crate::comm::Comm;
 use crate::diag::AxialSample;
 use crate::particles::ParticleState;
 use hdf5::types::VarLenUnicode;
-use ndarray::{Array1, Array2};
+use ndarray::Array1;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
@@ -38,12 +41,13 @@ pub struct RunMeta {
 
 /// An open output file being written.
 pub struct RunFile {
-    file: hdf5::File,
-    final_path: PathBuf,
-    partial_path: PathBuf,
+    // the datasets first: fields are dropped in order, and the file is closed after them
     rotations: hdf5::Dataset,
     volume_fraction: hdf5::Dataset,
     count: hdf5::Dataset,
+    file: hdf5::File,
+    final_path: PathBuf,
+    partial_path: PathBuf,
 }
 
 /// The name a file is written under until it is complete.
@@ -242,44 +246,119 @@ impl RunFile {
         self.file.flush()
     }
 
-    /// Write the final particle state (sorted by id) under `/particles`.
-    pub fn write_particles(&self, states: &[ParticleState]) -> hdf5::Result<()> {
-        write_states(&self.file.create_group("particles")?, states)
-    }
-
     /// The open file, for the diagnostics' writers.
     pub fn file(&self) -> &hdf5::File {
         &self.file
     }
+
+    /// Close the file (keeping its name) so that every rank can open it together.
+    fn suspend(self) -> Result<(PathBuf, PathBuf), String> {
+        let on = |e: hdf5::Error| format!("output {}: {e}", self.partial_path.display());
+        self.file.flush().map_err(on)?;
+        let RunFile {
+            file,
+            final_path,
+            partial_path,
+            rotations,
+            volume_fraction,
+            count,
+        } = self;
+        drop((rotations, volume_fraction, count));
+        file.close()
+            .map_err(|e| format!("output {}: {e}", partial_path.display()))?;
+        Ok((final_path, partial_path))
+    }
+
+    /// Open again a file closed by [`RunFile::suspend`].
+    fn resume(final_path: PathBuf, partial_path: PathBuf) -> Result<Self, String> {
+        let on = |e: hdf5::Error| format!("output {}: {e}", partial_path.display());
+        let file = hdf5::File::open_rw(&partial_path).map_err(on)?;
+        let rotations = file.dataset("axial/rotations").map_err(on)?;
+        let volume_fraction = file.dataset("axial/volume_fraction").map_err(on)?;
+        let count = file.dataset("axial/count").map_err(on)?;
+        Ok(RunFile {
+            file,
+            final_path,
+            partial_path,
+            rotations,
+            volume_fraction,
+            count,
+        })
+    }
 }
 
-/// Write particle states (sorted by id) as `id, species, diameter, position, velocity,
-/// angular_velocity` datasets in `g`.
-pub fn write_states(g: &hdf5::Group, states: &[ParticleState]) -> hdf5::Result<()> {
-    let n = states.len();
-    let vec3 = |f: fn(&ParticleState) -> [f64; 3]| {
-        Array2::from_shape_vec((n, 3), states.iter().flat_map(f).collect()).expect("n x 3")
+/// Write into the run's output `output` with every rank (all ranks call this together;
+/// rank 0 holds the open `file`): rank 0 closes it, every rank opens it (MPI-IO), `write`
+/// writes each rank's part, every rank closes it and rank 0 opens it again. Any failure, on
+/// any rank, is returned on every rank.
+pub fn write_together(
+    comm: &dyn Comm,
+    output: &Path,
+    file: &mut Option<RunFile>,
+    write: impl FnOnce(&ParFile) -> Result<(), String>,
+) -> Result<(), String> {
+    let suspended = file.take().map(RunFile::suspend).transpose();
+    let names = match suspended {
+        Ok(names) if comm.all_ok(true) => names,
+        Ok(_) => return Err("rank 0 could not close the output for the ranks to write".into()),
+        Err(e) => {
+            comm.all_ok(false);
+            return Err(e);
+        }
     };
-    let id = g
-        .new_dataset_builder()
-        .with_data(&Array1::from_iter(states.iter().map(|s| s.id)))
-        .create("id")?;
-    describe(
-        &id,
+    let partial = partial_path(output);
+    let on = |e: String| format!("output {}: {e}", partial.display());
+    let written = pario::together(comm, pario::open_rw(comm, &partial))
+        .map_err(on)
+        .and_then(|f| {
+            let w = write(&f).map_err(on);
+            let c = pario::close(f).map_err(on);
+            w.and(c)
+        });
+    let reopened = names
+        .map(|(fin, part)| RunFile::resume(fin, part).map(|f| *file = Some(f)))
+        .transpose();
+    let ok = comm.all_ok(reopened.is_ok());
+    written?;
+    reopened?;
+    if ok {
+        Ok(())
+    } else {
+        Err("rank 0 could not open the output again".into())
+    }
+}
+
+/// Write particle states as `id, species, diameter, position, velocity, angular_velocity`
+/// datasets in `g` (all ranks together): each rank's `states` (its share, sorted by id, the
+/// ranks' shares in increasing order of id) are its rows.
+pub fn write_states(
+    comm: &dyn Comm,
+    f: &ParFile,
+    g: &hdf5::Group,
+    states: &[ParticleState],
+) -> Result<(), String> {
+    let rows = Rows::of(comm, states.len() as u64);
+    let described = |ds: hdf5::Dataset, name: &str, units: &str, def: &str| {
+        pario::together(comm, describe(&ds, units, def)).map_err(|e| format!("{name}: {e}"))
+    };
+    let id: Vec<u64> = states.iter().map(|s| s.id).collect();
+    let ds = pario::write_rows(f, g, "id", &id, 1, rows, false)?;
+    drop(id);
+    described(
+        ds,
+        "id",
         "-",
         "particle id, stable for the whole run (rows sorted by it)",
     )?;
-    let species = g
-        .new_dataset_builder()
-        .with_data(&Array1::from_iter(states.iter().map(|s| s.species)))
-        .create("species")?;
-    describe(&species, "-", "species index, in case order")?;
-    let diameter = g
-        .new_dataset_builder()
-        .with_data(&Array1::from_iter(states.iter().map(|s| s.diameter)))
-        .create("diameter")?;
-    describe(&diameter, LENGTH, "particle diameter")?;
-    for (name, f, units, def) in [
+    let species: Vec<u8> = states.iter().map(|s| s.species).collect();
+    let ds = pario::write_rows(f, g, "species", &species, 1, rows, false)?;
+    drop(species);
+    described(ds, "species", "-", "species index, in case order")?;
+    let diameter: Vec<f64> = states.iter().map(|s| s.diameter).collect();
+    let ds = pario::write_rows(f, g, "diameter", &diameter, 1, rows, false)?;
+    drop(diameter);
+    described(ds, "diameter", LENGTH, "particle diameter")?;
+    for (name, get, units, def) in [
         (
             "position",
             (|s| s.x) as fn(&ParticleState) -> [f64; 3],
@@ -294,10 +373,26 @@ pub fn write_states(g: &hdf5::Group, states: &[ParticleState]) -> hdf5::Result<(
             "angular velocity, lab frame",
         ),
     ] {
-        let ds = g.new_dataset_builder().with_data(&vec3(f)).create(name)?;
-        describe(&ds, units, def)?;
+        let v: Vec<f64> = states.iter().flat_map(get).collect();
+        let ds = pario::write_rows(f, g, name, &v, 3, rows, false)?;
+        drop(v);
+        described(ds, name, units, def)?;
     }
     Ok(())
+}
+
+/// Write the final particle state under `/particles` (all ranks together, each its share
+/// as [`write_states`]) into the run's open `output`.
+pub fn write_particles(
+    comm: &dyn Comm,
+    output: &Path,
+    file: &mut Option<RunFile>,
+    states: &[ParticleState],
+) -> Result<(), String> {
+    write_together(comm, output, file, |f| {
+        let g = pario::together(comm, f.file.create_group("particles"))?;
+        write_states(comm, f, &g, states)
+    })
 }
 
 /// Open the run file at `path` read-only and read every dataset of its series back whole

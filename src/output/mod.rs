@@ -6,6 +6,7 @@ pub mod checkpoint;
 pub mod diag_file;
 pub mod h5;
 pub mod lock;
+pub mod pario;
 pub mod series;
 pub mod spacetime;
 pub mod xdmf;

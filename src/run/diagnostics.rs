@@ -111,8 +111,8 @@ impl RunDiagnostics {
                     (&mut windows.slices, &d.slices),
                     (&mut windows.fields, &d.fields),
                 ] {
-                    if saved.sums.len() != acc.len() {
-                        return Err(differ("sums", saved.sums.len(), acc.len()));
+                    if saved.len != acc.len() {
+                        return Err(differ("sums", saved.len, acc.len()));
                     }
                     acc.samples = saved.samples;
                     acc.angle_sum = saved.angle_sum;
@@ -191,27 +191,28 @@ impl RunDiagnostics {
         &mut self,
         sim: &Sim,
         comm: &dyn Comm,
-        file: Option<&RunFile>,
+        file: &mut Option<RunFile>,
     ) -> Result<(), String> {
         let step = sim.step;
         let s = self.sched;
         let mut ok = true;
+        let file_now = file.as_ref();
         let mut any = false;
         if step > 0 && step.is_multiple_of(s.sample) {
             self.windows.sample(&sim.p, comm);
         }
         if step > 0 && step.is_multiple_of(s.window) {
             any = true;
-            ok &= self.close(false, comm, file, step - s.window, step);
+            ok &= self.close(false, comm, file_now, step - s.window, step);
         }
         if step > 0 && step.is_multiple_of(s.field_window) {
             any = true;
-            ok &= self.close(true, comm, file, step - s.field_window, step);
+            ok &= self.close(true, comm, file_now, step - s.field_window, step);
         }
         if !self.paths.is_empty() && step.is_multiple_of(s.paths) {
             any = true;
             let d = self.paths.gather(&sim.p, comm);
-            if let (Some(d), Some(f)) = (d, file) {
+            if let (Some(d), Some(f)) = (d, file_now) {
                 ok &= logged(
                     diag_file::append_path(f.file(), sim.rotations(), &d),
                     "a path sample",
@@ -219,23 +220,26 @@ impl RunDiagnostics {
             }
         }
         if s.snapshots.is_some_and(|k| step.is_multiple_of(k)) {
-            any = true;
-            let states = sim.gather_sorted();
-            if let (Some(states), Some(f)) = (states, file) {
-                ok &= logged(
-                    diag_file::write_snapshot(f.file(), step, sim.rotations(), &states),
-                    "a snapshot",
-                );
-                self.snapshots.push((
-                    diag_file::snapshot_name(step),
-                    sim.rotations(),
-                    states.len(),
-                ));
+            // every rank writes its share: the other records of this step must agree first
+            if any && !comm.all_ok(ok) {
+                return Err("stopped: a diagnostic could not be written to the output".into());
+            }
+            let states = sim.particles_by_id();
+            let n = comm.sum_u64(states.len() as u64);
+            let rotations = sim.rotations();
+            crate::output::h5::write_together(comm, &self.output, file, |f| {
+                diag_file::write_snapshot(comm, f, step, rotations, &states)
+            })
+            .map_err(|e| format!("stopped: writing a snapshot: {e}"))?;
+            if comm.rank() == 0 {
+                self.snapshots
+                    .push((diag_file::snapshot_name(step), rotations, n as usize));
                 if let Err(e) = xdmf::write(&self.output, &self.snapshots) {
                     log::error!("writing {}: {e}", xdmf::xdmf_path(&self.output).display());
                     ok = false;
                 }
             }
+            any = true;
         }
         if !any || comm.all_ok(ok) {
             Ok(())
@@ -308,6 +312,7 @@ impl RunDiagnostics {
         let saved = |b: &mut crate::diag::grid::BinnedSums| SavedSums {
             samples: b.samples,
             angle_sum: b.angle_sum,
+            len: b.len(),
             sums: std::mem::take(&mut b.sums),
         };
         DiagState {

@@ -111,11 +111,17 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
     let mut restored_diag = None;
     let (mut sim, resumed_samples) = match &opts.restart {
         Some(path) => {
-            let ck = checkpoint::read(path);
+            // each rank reads its share of the particles and contacts
+            let ck = checkpoint::read_share(path, comm.rank(), comm.size());
+            if let (Err(e), false) = (&ck, root) {
+                // only rank 0 prints the run's error: say what this rank's share showed
+                log::error!("rank {}: {e}", comm.rank());
+            }
             if !comm.all_ok(ck.is_ok()) {
-                return Err(ck
-                    .err()
-                    .unwrap_or_else(|| "another rank could not read the checkpoint".into()));
+                return Err(ck.err().unwrap_or_else(|| {
+                    "another rank could not read its share of the checkpoint (see its message)"
+                        .into()
+                }));
             }
             let ck = ck?;
             check_compatible(&ck.case_text, case, opts.allow_different_case, path)?;
@@ -124,7 +130,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
                     log::warn!("{end}");
                 }
                 return Ok(RunEnd::Finished(RunSummary {
-                    particles: ck.particles.len() as u64,
+                    particles: ck.n_particles,
                     steps: 0,
                     seconds: 0.0,
                     particle_steps_per_second: 0.0,
@@ -138,6 +144,13 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             if !comm.all_ok(refused.is_none()) {
                 return Err(refused.unwrap_or_else(|| "rank 0 refused the run's output".into()));
             }
+            log::debug!(
+                "rank {}: read {} of {} particles and {} contact histories of the checkpoint",
+                comm.rank(),
+                ck.particles.len(),
+                ck.n_particles,
+                ck.histories.len()
+            );
             let sim = Sim::resume(case, comm, &ck.particles, ck.histories, ck.step)
                 .map_err(|e| e.to_string())?;
             if root {
@@ -298,7 +311,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
         None => {
             sample(&mut sim, &mut file)?;
-            diags.after_step(&sim, comm, file.as_ref())?;
+            diags.after_step(&sim, comm, &mut file)?;
             imbalance = balance_check(&mut sim, case, file.as_ref())?;
             1
         }
@@ -323,7 +336,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
         let t0 = Instant::now();
-        diags.after_step(&sim, comm, file.as_ref())?;
+        diags.after_step(&sim, comm, &mut file)?;
         sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         if sim.step % balance_steps == 0 {
             imbalance = balance_check(&mut sim, case, file.as_ref())?;
@@ -405,15 +418,18 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
     )?;
     diags.finish(&sim, comm, file.as_ref())?;
 
-    let states = sim.gather_sorted();
+    // every rank writes its share of the final state
+    let states = sim.particles_by_id();
+    crate::output::h5::write_particles(comm, &opts.output, &mut file, &states)
+        .map_err(|e| format!("writing {}: {e}", opts.output.display()))?;
+    drop(states);
     let migrations = comm.sum_u64(sim.migrated);
     let peak_rss = comm.max_f64(peak_rss_bytes() as f64);
     let histories_migrated = comm.sum_u64(sim.histories_migrated);
     let mut write_err = String::new();
-    if let (Some(states), Some(f)) = (states, file) {
+    if let Some(f) = file {
         let written = f
-            .write_particles(&states)
-            .and_then(|_| f.write_number("steps", sim.step))
+            .write_number("steps", sim.step)
             .and_then(|_| f.write_number("rebuilds", sim.rebuilds))
             .and_then(|_| f.write_number("migrations", migrations))
             .and_then(|_| f.write_number("histories_migrated", histories_migrated))
@@ -544,36 +560,35 @@ fn save_checkpoint(
     path: &Path,
     file: Option<&RunFile>,
 ) -> Result<(), String> {
-    let diag = diags.state(sim.comm());
-    let particles = sim.gather_sorted();
-    let histories = sim.gather_histories();
+    let comm = sim.comm();
+    let diag = diags.state(comm);
     let mut err = String::new();
     if let Some(Err(e)) = file.map(RunFile::sync) {
         err = format!("{e}; no checkpoint written (the previous one, if any, is kept)");
-        diags.restore(diag);
-    } else if let (Some(particles), Some(histories)) = (particles, histories) {
-        let ck = Checkpoint {
-            case_text: case_text.to_string(),
-            step: sim.step,
-            samples,
-            particles,
-            histories,
-            diag,
-        };
-        if let Err(e) = checkpoint::write(path, &ck) {
-            err = e;
-        }
-        diags.restore(ck.diag);
-    } else {
-        diags.restore(diag);
     }
-    if sim.comm().all_ok(err.is_empty()) {
-        Ok(())
-    } else if err.is_empty() {
-        Err("rank 0 could not write the checkpoint".into())
-    } else {
-        Err(err)
+    // every rank writes its share of the particles and contacts, once rank 0's output is on
+    // disk
+    if !comm.all_ok(err.is_empty()) {
+        diags.restore(diag);
+        return Err(if err.is_empty() {
+            "rank 0 could not write the output to disk; no checkpoint written".into()
+        } else {
+            err
+        });
     }
+    let (particles, histories) = sim.particles_and_histories(sim.law.has_history());
+    let ck = Checkpoint {
+        case_text: case_text.to_string(),
+        step: sim.step,
+        samples,
+        n_particles: 0,
+        particles,
+        histories,
+        diag,
+    };
+    let written = checkpoint::write(comm, path, &ck);
+    diags.restore(ck.diag);
+    written
 }
 
 /// Refuse a checkpoint from another drum, model, species set or time step (unless `allow`).

@@ -1,0 +1,269 @@
+//! Files every rank writes together: HDF5 with the MPI-IO driver when the run has MPI
+//! (HDF5's default driver without it, as in the unit tests), and datasets of which every
+//! rank writes its own rows, so that nothing of size N passes through one rank.
+//!
+//! HDF5's metadata operations (creating the file, a group, a dataset, an attribute) are
+//! collective: every rank calls them with the same arguments. The rows are written with
+//! the collective transfer mode, which chunked datasets with filters (the checkpoints'
+//! Fletcher32 checksums) require in parallel HDF5 (1.10.2 and later); a rank with no rows
+//! takes part with an empty selection. After each write the ranks agree on the outcome
+//! ([`together`]), so that one rank's failure stops every rank before the next collective
+//! call instead of leaving the others waiting in it.
+
+use crate::comm::Comm;
+use hdf5::H5Type;
+use hdf5_sys::h5d::H5Dwrite;
+use hdf5_sys::h5i::hid_t;
+use hdf5_sys::h5p::{H5FD_mpio_xfer_t, H5Pclose, H5Pcreate, H5Pset_dxpl_mpio};
+use hdf5_sys::h5s::{
+    H5S_seloper_t, H5Sclose, H5Screate_simple, H5Sselect_hyperslab, H5Sselect_none,
+};
+use std::path::Path;
+
+/// A file open on every rank.
+pub struct ParFile<'c> {
+    /// The file.
+    pub file: hdf5::File,
+    /// The ranks that hold it open.
+    pub comm: &'c dyn Comm,
+    /// Whether it is open with the MPI-IO driver (rows are then written collectively).
+    pub mpio: bool,
+}
+
+fn access(comm: &dyn Comm, p: &mut hdf5::plist::FileAccessBuilder, v110: bool) {
+    if let Some(raw) = comm.raw() {
+        p.mpio(raw.0, None);
+    }
+    if v110 {
+        p.libver_v110();
+    }
+}
+
+/// Create `path` on every rank (replacing a file there); `v110`: metadata in the 1.10
+/// format, whose object headers are checksummed.
+pub fn create<'c>(comm: &'c dyn Comm, path: &Path, v110: bool) -> hdf5::Result<ParFile<'c>> {
+    let file = hdf5::File::with_options()
+        .with_fapl(|p| {
+            access(comm, p, v110);
+            p
+        })
+        .create(path)?;
+    Ok(ParFile {
+        file,
+        comm,
+        mpio: comm.raw().is_some(),
+    })
+}
+
+/// Open the existing `path` for writing on every rank.
+pub fn open_rw<'c>(comm: &'c dyn Comm, path: &Path) -> hdf5::Result<ParFile<'c>> {
+    let file = hdf5::File::with_options()
+        .with_fapl(|p| {
+            access(comm, p, false);
+            p
+        })
+        .open_rw(path)?;
+    Ok(ParFile {
+        file,
+        comm,
+        mpio: comm.raw().is_some(),
+    })
+}
+
+/// Close the file on every rank (a collective flush of its metadata), reporting failures.
+pub fn close(f: ParFile) -> Result<(), String> {
+    together(f.comm, f.file.close())
+}
+
+/// `r` if every rank's outcome is a success; otherwise an error on every rank (this rank's
+/// own message, or one saying another rank failed, whose message that rank logs).
+pub fn together<T>(comm: &dyn Comm, r: hdf5::Result<T>) -> Result<T, String> {
+    let ok = comm.all_ok(r.is_ok());
+    // rank 0 reports the run's error; another rank's own reason is logged where it happened
+    if let (Err(e), false) = (&r, comm.rank() == 0) {
+        log::error!("rank {}: {e}", comm.rank());
+    }
+    match r {
+        Ok(v) if ok => Ok(v),
+        Ok(_) => Err("another rank could not write its part of the file (see its message)".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Where this rank's rows go in a dataset every rank writes a part of: 64-bit offsets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rows {
+    /// First row of this rank's part.
+    pub offset: u64,
+    /// This rank's rows.
+    pub count: u64,
+    /// Rows over all ranks.
+    pub total: u64,
+}
+
+impl Rows {
+    /// The place of this rank's `count` rows when the ranks' parts follow in rank order.
+    pub fn of(comm: &dyn Comm, count: u64) -> Rows {
+        Rows {
+            offset: comm.exscan_u64(count),
+            count,
+            total: comm.sum_u64(count),
+        }
+    }
+
+    /// Rows `[r * total / size, (r + 1) * total / size)`: rank `r`'s even share of a dataset
+    /// of `total` rows that every rank reads a part of.
+    pub fn share(total: u64, rank: usize, size: usize) -> Rows {
+        let at = |r: usize| (total as u128 * r as u128 / size.max(1) as u128) as u64;
+        let (lo, hi) = (at(rank), at(rank + 1));
+        Rows {
+            offset: lo,
+            count: hi - lo,
+            total,
+        }
+    }
+
+    /// The range of rows, as indices.
+    pub fn range(&self) -> std::ops::Range<usize> {
+        self.offset as usize..(self.offset + self.count) as usize
+    }
+}
+
+/// Rows per chunk of a checksummed dataset (a checksum covers one chunk).
+pub const CHUNK_ROWS: u64 = 1 << 16;
+
+/// Create dataset `name` of `rows.total` rows of `cols` values (1-D when `cols` is 1) in `g`
+/// on every rank, and write this rank's `data` (`rows.count` rows) at `rows.offset`.
+/// `checksum`: chunked with a Fletcher32 checksum per chunk (when not empty). The ranks
+/// agree on the outcome before returning.
+pub fn write_rows<T: H5Type>(
+    f: &ParFile,
+    g: &hdf5::Group,
+    name: &str,
+    data: &[T],
+    cols: usize,
+    rows: Rows,
+    checksum: bool,
+) -> Result<hdf5::Dataset, String> {
+    let r = write_rows_here(f, g, name, data, cols, rows, checksum);
+    together(f.comm, r).map_err(|e| format!("{name}: {e}"))
+}
+
+fn write_rows_here<T: H5Type>(
+    f: &ParFile,
+    g: &hdf5::Group,
+    name: &str,
+    data: &[T],
+    cols: usize,
+    rows: Rows,
+    checksum: bool,
+) -> hdf5::Result<hdf5::Dataset> {
+    let cols = cols.max(1);
+    if data.len() as u64 != rows.count * cols as u64 {
+        return Err(hdf5::Error::from(
+            format!(
+                "{} values are not {} rows of {cols}",
+                data.len(),
+                rows.count
+            )
+            .as_str(),
+        ));
+    }
+    let total = rows.total as usize;
+    let chunk = rows.total.clamp(1, CHUNK_ROWS) as usize;
+    let b = g.new_dataset::<T>();
+    let ds = if cols == 1 {
+        let b = b.shape(total);
+        if checksum && total > 0 {
+            b.chunk(chunk).fletcher32().create(name)?
+        } else {
+            b.create(name)?
+        }
+    } else {
+        let b = b.shape((total, cols));
+        if checksum && total > 0 {
+            b.chunk((chunk, cols)).fletcher32().create(name)?
+        } else {
+            b.create(name)?
+        }
+    };
+    let mem_type = hdf5::Datatype::from_type::<T>()?;
+    let rank = if cols == 1 { 1 } else { 2 };
+    let start = [rows.offset, 0];
+    let count = [rows.count, cols as u64];
+    let mem_dims = [rows.count.max(1), cols as u64];
+    let ds_id = ds.id();
+    let fspace = ds.space()?;
+    let (fs, tp) = (fspace.id(), mem_type.id());
+    let collective = f.mpio;
+    hdf5::sync::sync(|| -> hdf5::Result<()> {
+        // SAFETY: the ids are open objects of this function; the selections index `data`
+        // within its `rows.count` rows of `cols` values.
+        unsafe {
+            let check = |code: i32| hdf5::h5check(code).map(|_| ());
+            let ms = hdf5::h5check(H5Screate_simple(rank, mem_dims.as_ptr(), std::ptr::null()))?;
+            let dxpl: hid_t = match hdf5::h5check(H5Pcreate(*hdf5_sys::h5p::H5P_CLS_DATASET_XFER)) {
+                Ok(id) => id,
+                Err(e) => {
+                    H5Sclose(ms);
+                    return Err(e);
+                }
+            };
+            let result = (|| {
+                if collective {
+                    check(H5Pset_dxpl_mpio(
+                        dxpl,
+                        H5FD_mpio_xfer_t::H5FD_MPIO_COLLECTIVE,
+                    ))?;
+                }
+                if rows.count > 0 {
+                    check(H5Sselect_hyperslab(
+                        fs,
+                        H5S_seloper_t::H5S_SELECT_SET,
+                        start.as_ptr(),
+                        std::ptr::null(),
+                        count.as_ptr(),
+                        std::ptr::null(),
+                    ))?;
+                } else {
+                    check(H5Sselect_none(fs))?;
+                    check(H5Sselect_none(ms))?;
+                }
+                check(H5Dwrite(ds_id, tp, ms, fs, dxpl, data.as_ptr().cast()))
+            })();
+            H5Pclose(dxpl);
+            H5Sclose(ms);
+            result
+        }
+    })?;
+    Ok(ds)
+}
+
+/// Read this rank's `rows` of dataset `ds` (`cols` values per row, 1-D when `cols` is 1),
+/// flattened.
+pub fn read_rows<T: H5Type>(ds: &hdf5::Dataset, cols: usize, rows: Rows) -> hdf5::Result<Vec<T>> {
+    let r = rows.range();
+    if cols <= 1 {
+        Ok(ds.read_slice_1d::<T, _>(r)?.into_raw_vec_and_offset().0)
+    } else {
+        Ok(ds
+            .read_slice_2d::<T, _>(ndarray::s![r, ..])?
+            .into_raw_vec_and_offset()
+            .0)
+    }
+}
+
+/// Start the HDF5 library before MPI, and keep it from closing, at MPI's end or the
+/// program's exit, what the program left open. Only a file whose close failed (a full disk)
+/// is left open, and HDF5 1.10's MPI-IO driver crashes closing it there (in `H5D_close`);
+/// the program itself closes every file it writes, and removes such a failed one. Started
+/// before MPI, the library does not hook its end to `MPI_Finalize`. Call it first, before
+/// MPI and any other HDF5 call.
+pub fn start_library() {
+    // SAFETY: sets a flag read when the library starts, then starts it; nothing else of
+    // HDF5 runs yet
+    unsafe {
+        hdf5_sys::h5::H5dont_atexit();
+        hdf5_sys::h5::H5open();
+    }
+}
