@@ -425,6 +425,13 @@ fn main() -> ExitCode {
                     return ExitCode::from(2);
                 }
             };
+            // the initial state on this many ranks, before anything is built
+            if let Err(e) = tumbler::case::initial_memory(&lc.case, comm.size()) {
+                if root {
+                    report_case_errors(&[e]);
+                }
+                return ExitCode::from(2);
+            }
             let output = output.unwrap_or_else(|| default_output(&case));
             let stop = match stop_on_signals() {
                 Ok(stop) => stop,

@@ -29,6 +29,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         return Err("--ranks: at least 1 rank is needed, got 0".into());
     }
     crate::engine::sim::slabs_fit(case, ranks).map_err(|e| format!("--ranks {ranks}: {e}"))?;
+    crate::case::initial_memory(case, ranks).map_err(|e| e.to_string())?;
     let reach = law::reach(case);
     let length = case.drum.axial_length();
     let slab = length / ranks as f64;

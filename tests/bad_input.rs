@@ -435,25 +435,45 @@ fn a_step_count_that_does_not_fit_is_refused() {
 
 #[test]
 fn a_huge_initial_state_is_refused_before_it_is_built() {
-    // 1.4e8 lattice sites: refused at once by check and run, nothing allocated
-    let m = with("drum.length=1e7");
+    // 1.4e8 lattice sites: 67 GiB on one rank, refused at once by check and run on one
+    // rank, nothing allocated; the case itself is fine, for 5 ranks or more
+    let on = |file: &str, overrides: &[&str], ranks: usize| -> Option<String> {
+        let text = std::fs::read_to_string(case_path(file)).unwrap();
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let lc = tumbler::case::load_text(&text, &ov, file).unwrap();
+        tumbler::case::initial_memory(&lc.case, ranks)
+            .err()
+            .map(|e| e.to_string())
+    };
+    let long = ["drum.length=1e7", "output.slice_width=100"];
+    let m = on("periodic.toml", &long, 1).expect("refused on 1 rank");
     expect(
         &m,
         &[
-            "init.density: the initial state would hold about 1.361e8 particles",
+            "init.density: the initial state would hold about 1.361e8 particles, 67 GiB on each of 1 ranks",
             "at most 16 GiB",
+            "run it on at least 5 ranks",
         ],
     );
-    let m = with_on("sphere.toml", &["drum.diameter=3.0"]);
+    assert_eq!(on("periodic.toml", &long, 5), None);
+    let m = on("sphere.toml", &["drum.diameter=3.0"], 1).expect("refused on 1 rank");
     expect(&m, &["init.fill: the initial state would hold", "GiB"]);
+    // a state that no rank count can hold is refused with the case itself
     let m = with_on("rough.toml", &["drum.rough_wall.diameter=1e-7"]);
-    expect(&m, &["the initial state would hold"]);
+    expect(&m, &["the initial state would hold", "no rank count fits"]);
     let dir = tmpdir();
     let case = case_path("periodic.toml");
     let out = dir.path().join("o.h5");
     let t = std::time::Instant::now();
     for args in [
-        vec!["check", case.to_str().unwrap(), "--set", "drum.length=1e7"],
+        vec![
+            "check",
+            case.to_str().unwrap(),
+            "--set",
+            "drum.length=1e7",
+            "--set",
+            "output.slice_width=100",
+        ],
         vec![
             "run",
             case.to_str().unwrap(),
@@ -461,6 +481,8 @@ fn a_huge_initial_state_is_refused_before_it_is_built() {
             out.to_str().unwrap(),
             "--set",
             "drum.length=1e7",
+            "--set",
+            "output.slice_width=100",
         ],
     ] {
         let o = tumbler(&args);

@@ -14,11 +14,10 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 /// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
 pub const STEPS_MAX: f64 = 1e12;
 
-/// Most memory the whole initial state may take, in bytes: 16 GiB, about 3.3e7 particles at
-/// `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4). Each rank makes
-/// only its own slab's part, so on many ranks this is more than needed; it is a limit on the
-/// whole state because the case is checked before the rank count is known. Checked on the
-/// estimate of [`estimated_particles`] before anything is allocated.
+/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 3.3e7
+/// particles at `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4).
+/// Each rank makes only its own slab's part. Checked by [`initial_memory`] on the estimate
+/// of [`estimated_particles`] before anything is allocated.
 pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
 
 /// Most samples (of the axial profiles, diagnostics, paths, snapshots) or checkpoints a run
@@ -838,30 +837,9 @@ fn size_checks(case: &Case, c: &mut Checker) {
             ),
         );
     }
-    let n = estimated_particles(case);
-    let bytes = n * crate::report::BYTES_PER_PARTICLE as f64;
-    let gib = |b: f64| {
-        if b.is_finite() {
-            format!("{:.0} GiB", b / (1u64 << 30) as f64)
-        } else {
-            "more than 1e299 GiB".into()
-        }
-    };
-    if !at_most(bytes, INITIAL_MEMORY_MAX) {
-        c.bad(
-            match case.init.kind {
-                InitKind::Lattice => "init.density",
-                InitKind::Pour => "init.fill",
-                InitKind::Particles => "init.particle",
-            },
-            format!(
-                "the initial state would hold {} particles ({} in all); at most {:.0} GiB ({:.2e} particles) in all is accepted, whatever the rank count: a smaller drum, fill or density, or larger particles",
-                if n.is_finite() { format!("about {}", derived(n)) } else { derived(n) },
-                gib(bytes),
-                INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
-                INITIAL_MEMORY_MAX / crate::report::BYTES_PER_PARTICLE as f64
-            ),
-        );
+    // no run can fit if even the most slabs the drum can be cut into are too full
+    if let Err(e) = initial_memory(case, most_ranks(case)) {
+        c.errs.push(e);
     }
     let o = &case.output;
     let g = &case.diagnostics;
@@ -889,6 +867,60 @@ fn size_checks(case: &Case, c: &mut Checker) {
 }
 
 /// A value of the case as given: plain unless very large or small.
+/// The most ranks the drum of `case` can be cut into: slabs no thinner than the
+/// interaction range + skin (as `engine::sim::slabs_fit` requires).
+fn most_ranks(case: &Case) -> usize {
+    let most = (case.drum.axial_length() / crate::physics::law::reach(case)).floor();
+    if most.is_finite() && most >= 1.0 {
+        most.min(1e9) as usize
+    } else {
+        1
+    }
+}
+
+/// Refuse an initial state that would take more than [`INITIAL_MEMORY_MAX`] on one of
+/// `ranks` ranks (each makes only its own slab's part: the estimate of
+/// [`estimated_particles`] over the ranks), before anything is built. The case check
+/// applies it on the most ranks the drum can be cut into; `run` and `check --ranks` on
+/// their own rank count.
+pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
+    let n = estimated_particles(case);
+    let ranks = ranks.max(1) as f64;
+    let per_particle = crate::report::BYTES_PER_PARTICLE as f64;
+    let bytes = n * per_particle / ranks;
+    if at_most(bytes, INITIAL_MEMORY_MAX) {
+        return Ok(());
+    }
+    let gib = |b: f64| {
+        if b.is_finite() {
+            format!("{:.0} GiB", b / (1u64 << 30) as f64)
+        } else {
+            "more than 1e299 GiB".into()
+        }
+    };
+    let needed = (n * per_particle / INITIAL_MEMORY_MAX).ceil();
+    let most = most_ranks(case) as f64;
+    let remedy = if needed.is_finite() && needed <= most {
+        format!("run it on at least {needed:.0} ranks, or make")
+    } else {
+        format!("no rank count fits (the drum can be cut into at most {most:.0} slabs): make")
+    };
+    Err(CaseError::new(
+        match case.init.kind {
+            InitKind::Lattice => "init.density",
+            InitKind::Pour => "init.fill",
+            InitKind::Particles => "init.particle",
+        },
+        format!(
+            "the initial state would hold {} particles, {} on each of {ranks:.0} ranks; at most {:.0} GiB ({:.2e} particles) per rank is accepted: {remedy} the drum, fill or density smaller, or the particles larger",
+            if n.is_finite() { format!("about {}", derived(n)) } else { derived(n) },
+            gib(bytes),
+            INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
+            INITIAL_MEMORY_MAX / per_particle
+        ),
+    ))
+}
+
 fn given(x: f64) -> String {
     if x == 0.0 || (1e-4..1e9).contains(&x.abs()) {
         format!("{x}")
