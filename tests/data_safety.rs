@@ -391,6 +391,19 @@ impl Drop for Tmpfs {
     }
 }
 
+/// A 16 MiB tmpfs at `dir/mnt`, filled so that only the output of `out_size` bytes and one
+/// and a half checkpoints of `ck_size` fit: the first checkpoint fits, the next (written
+/// while the first still exists) does not. `None` where no tmpfs can be mounted.
+fn nearly_full_disk(dir: &Path, out_size: u64, ck_size: u64) -> Option<(Tmpfs, PathBuf)> {
+    let mnt = dir.join("mnt");
+    std::fs::create_dir(&mnt).unwrap();
+    let disk = 16 << 20;
+    let fs = Tmpfs::mount(&mnt, disk)?;
+    let room = out_size + ck_size * 3 / 2;
+    std::fs::write(mnt.join("filler"), vec![1u8; (disk - room) as usize]).unwrap();
+    Some((fs, mnt))
+}
+
 #[test]
 fn a_full_disk_at_a_checkpoint_keeps_the_previous_one_and_a_restartable_output() {
     let dir = tmpdir();
@@ -402,17 +415,11 @@ fn a_full_disk_at_a_checkpoint_keeps_the_previous_one_and_a_restartable_output()
     let ck_size = std::fs::metadata(dir.path().join("ref.ckpt.h5"))
         .unwrap()
         .len();
-    let mnt = dir.path().join("mnt");
-    std::fs::create_dir(&mnt).unwrap();
-    let disk = 16 << 20;
-    let Some(_fs) = Tmpfs::mount(&mnt, disk) else {
+    // the checkpoint at 0.05 rotations fits, the final one does not
+    let Some((_fs, mnt)) = nearly_full_disk(dir.path(), out_size, ck_size) else {
         return;
     };
-    // room for the output and one and a half checkpoints: the checkpoint at 0.05 fits, the
-    // final one (written while the first still exists) does not
-    let room = out_size + ck_size * 3 / 2;
     let filler = mnt.join("filler");
-    std::fs::write(&filler, vec![1u8; (disk - room) as usize]).unwrap();
     let out = mnt.join("a.h5");
     let o = run(&out, "0.1", &ck_every);
     refused(&o, &["No space left on device", "a.ckpt.h5"]);
@@ -471,14 +478,9 @@ fn a_full_disk_at_a_checkpoint_on_3_ranks_stops_every_rank_and_keeps_the_previou
     let ck_size = std::fs::metadata(dir.path().join("ref.ckpt.h5"))
         .unwrap()
         .len();
-    let mnt = dir.path().join("mnt");
-    std::fs::create_dir(&mnt).unwrap();
-    let disk = 16 << 20;
-    let Some(_fs) = Tmpfs::mount(&mnt, disk) else {
+    let Some((_fs, mnt)) = nearly_full_disk(dir.path(), out_size, ck_size) else {
         return;
     };
-    let room = out_size + ck_size * 3 / 2;
-    std::fs::write(mnt.join("filler"), vec![1u8; (disk - room) as usize]).unwrap();
     let out = mnt.join("a.h5");
     let a = to_str(&args(&out));
     let a: Vec<&str> = a.iter().map(|x| x.as_str()).collect();

@@ -4,9 +4,8 @@
 
 mod common;
 
-use common::{case_path, tmpdir};
+use common::{case_path, mpirun_with_log, tmpdir};
 use std::path::Path;
-use std::process::Command;
 
 /// Every dataset under `groups` of the HDF5 file `path`, as (name, element size, bytes).
 fn datasets(path: &Path, groups: &[&str]) -> Vec<(String, usize, Vec<u8>)> {
@@ -44,20 +43,6 @@ fn datasets(path: &Path, groups: &[&str]) -> Vec<(String, usize, Vec<u8>)> {
     out
 }
 
-fn mpirun_logged(n: usize, args: &[&str], log: &str) -> std::process::Output {
-    Command::new("mpirun")
-        .args(["--oversubscribe", "-np", &n.to_string(), "-x", "RUST_LOG"])
-        .arg(env!("CARGO_BIN_EXE_tumbler"))
-        .args(args)
-        .env("RUST_LOG", log)
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .env("OMPI_MCA_mpi_yield_when_idle", "1")
-        .output()
-        .expect("mpirun could not be started (is openmpi-bin installed?)")
-}
-
 fn run(n: usize, out: &Path, rotations: &str, extra: &[&str]) -> std::process::Output {
     let case = case_path("sd_capped.toml");
     let rot = format!("run.rotations={rotations}");
@@ -74,7 +59,7 @@ fn run(n: usize, out: &Path, rotations: &str, extra: &[&str]) -> std::process::O
         "run.balance_every=0.01",
     ];
     args.extend_from_slice(extra);
-    let o = mpirun_logged(n, &args, "info,tumbler::run=debug");
+    let o = mpirun_with_log(n, &args, Some("info,tumbler::run=debug"));
     assert!(
         o.status.success(),
         "{n} ranks: {}",
@@ -188,7 +173,7 @@ fn a_rough_wall_drum_with_histories_restarts_onto_another_rank_count_bit_identic
             ck = d.join(c);
             args.extend(["--restart", ck.to_str().unwrap()]);
         }
-        let o = mpirun_logged(n, &args, "info");
+        let o = common::mpirun(n, &args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     };
     go(1, "full.h5", "0.06", None);

@@ -26,8 +26,13 @@ pub struct ParFile<'c> {
     pub file: hdf5::File,
     /// The ranks that hold it open.
     pub comm: &'c dyn Comm,
+}
+
+impl ParFile<'_> {
     /// Whether it is open with the MPI-IO driver (rows are then written collectively).
-    pub mpio: bool,
+    pub fn mpio(&self) -> bool {
+        self.comm.raw().is_some()
+    }
 }
 
 fn access(comm: &dyn Comm, p: &mut hdf5::plist::FileAccessBuilder, v110: bool) {
@@ -48,11 +53,7 @@ pub fn create<'c>(comm: &'c dyn Comm, path: &Path, v110: bool) -> hdf5::Result<P
             p
         })
         .create(path)?;
-    Ok(ParFile {
-        file,
-        comm,
-        mpio: comm.raw().is_some(),
-    })
+    Ok(ParFile { file, comm })
 }
 
 /// Open the existing `path` for writing on every rank.
@@ -63,11 +64,7 @@ pub fn open_rw<'c>(comm: &'c dyn Comm, path: &Path) -> hdf5::Result<ParFile<'c>>
             p
         })
         .open_rw(path)?;
-    Ok(ParFile {
-        file,
-        comm,
-        mpio: comm.raw().is_some(),
-    })
+    Ok(ParFile { file, comm })
 }
 
 /// Close the file on every rank (a collective flush of its metadata), reporting failures.
@@ -195,7 +192,7 @@ fn write_rows_here<T: H5Type>(
     let ds_id = ds.id();
     let fspace = ds.space()?;
     let (fs, tp) = (fspace.id(), mem_type.id());
-    let collective = f.mpio;
+    let collective = f.mpio();
     hdf5::sync::sync(|| -> hdf5::Result<()> {
         // SAFETY: the ids are open objects of this function; the selections index `data`
         // within its `rows.count` rows of `cols` values.

@@ -22,9 +22,17 @@ pub fn case_with(name: &str, overrides: &[&str]) -> Case {
 
 /// `mpirun -np n tumbler args...`, with what OpenMPI needs to run as root and oversubscribed.
 pub fn mpirun(n: usize, args: &[&str]) -> std::process::Output {
-    Command::new("mpirun")
-        .args(["--oversubscribe", "-np", &n.to_string()])
-        .arg(env!("CARGO_BIN_EXE_tumbler"))
+    mpirun_with_log(n, args, None)
+}
+
+/// [`mpirun`] with `RUST_LOG` set to `log` on every rank, when given.
+pub fn mpirun_with_log(n: usize, args: &[&str], log: Option<&str>) -> std::process::Output {
+    let mut c = Command::new("mpirun");
+    c.args(["--oversubscribe", "-np", &n.to_string()]);
+    if let Some(log) = log {
+        c.args(["-x", "RUST_LOG"]).env("RUST_LOG", log);
+    }
+    c.arg(env!("CARGO_BIN_EXE_tumbler"))
         .args(args)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
