@@ -731,24 +731,7 @@ pub fn estimated_particles(case: &Case) -> f64 {
             };
             case.init.density.unwrap_or(0.0) * std::f64::consts::PI * r * r * l
         }
-        InitKind::Pour => {
-            let solid = case.init.fill.unwrap_or(0.0)
-                * d.volume()
-                * crate::init::pour::PACKING
-                * crate::init::pour::OVERFILL;
-            let single = case.species.len() == 1;
-            case.species
-                .iter()
-                .map(|s| {
-                    let share = if single {
-                        1.0
-                    } else {
-                        s.volume_fraction.unwrap_or(0.0)
-                    };
-                    solid * share / (std::f64::consts::PI / 6.0 * crate::init::pour::mean_d3(s))
-                })
-                .sum()
-        }
+        InitKind::Pour => crate::init::pour::poured_per_species(case).iter().sum(),
         InitKind::Particles => case.init.particle.len() as f64,
     };
     let wall = d.rough_wall.as_ref().map_or(0.0, |rw| {

@@ -49,7 +49,7 @@ fn diameter(s: &crate::case::Species, rng: &mut ChaCha8Rng) -> f64 {
 }
 
 /// Mean cube of a species' diameter.
-pub(crate) fn mean_d3(s: &crate::case::Species) -> f64 {
+fn mean_d3(s: &crate::case::Species) -> f64 {
     let d = s.diameter;
     if s.diameter_sd > 0.0 {
         d * d * d * (1.0 + 3.0 * s.diameter_sd * s.diameter_sd)
@@ -59,6 +59,24 @@ pub(crate) fn mean_d3(s: &crate::case::Species) -> f64 {
     } else {
         d * d * d
     }
+}
+
+/// How many particles of each species the pour makes (before rounding): the fill's volume,
+/// packed at [`PACKING`] and [`OVERFILL`] times over, shared out by `volume_fraction`.
+pub fn poured_per_species(case: &Case) -> Vec<f64> {
+    let solid = case.init.fill.unwrap_or(0.0) * case.drum.volume() * PACKING * OVERFILL;
+    let single = case.species.len() == 1;
+    case.species
+        .iter()
+        .map(|s| {
+            let fraction = if single {
+                1.0
+            } else {
+                s.volume_fraction.unwrap_or(0.0)
+            };
+            solid * fraction / (PI / 6.0 * mean_d3(s))
+        })
+        .collect()
 }
 
 /// Fraction of the drum's volume below height `h` (`-R <= h <= R`).
@@ -194,19 +212,11 @@ impl Grid {
 /// slowly along it. Species are dealt out in exact numbers by a keyed permutation of the
 /// ids; each point's place and diameter are drawn from its own keyed stream.
 pub fn points(case: &Case, share: &Share) -> Result<(Vec<ParticleState>, f64), String> {
-    let fill = case.init.fill.unwrap_or(0.0);
-    let solid = fill * case.drum.volume() * PACKING * OVERFILL;
-    let single = case.species.len() == 1;
     // species k takes the dealt positions ends[k-1]..ends[k]
     let mut ends: Vec<u64> = Vec::new();
     let mut d_max: f64 = 0.0;
-    for s in &case.species {
-        let share = if single {
-            1.0
-        } else {
-            s.volume_fraction.unwrap_or(0.0)
-        };
-        let n = (solid * share / (PI / 6.0 * mean_d3(s))).round() as u64;
+    for (s, n) in case.species.iter().zip(poured_per_species(case)) {
+        let n = n.round() as u64;
         if n > 0 {
             d_max = d_max.max(crate::physics::law::largest_diameter(s));
         }
