@@ -71,6 +71,22 @@ pub fn duplicate_id(ps: &[ParticleState], comm: &dyn Comm) -> Option<u64> {
     first.is_finite().then_some(first as u64)
 }
 
+/// Where explicit particles come from, as messages name it.
+fn source(case: &Case) -> String {
+    case.init.file.as_deref().map_or_else(
+        || "[[init.particle]]".to_string(),
+        |f| format!("init.file {f}"),
+    )
+}
+
+/// The refusal of two particles sharing the id `id`.
+pub fn duplicate(case: &Case, id: u64) -> String {
+    format!(
+        "init: particle id {id} appears twice in {}: ids must be unique",
+        source(case)
+    )
+}
+
 /// Rows of a particle file read at a time.
 const BLOCK: usize = 1 << 18;
 
@@ -145,15 +161,12 @@ fn check(
     let radius = 0.5 * case.drum.diameter;
     let half = 0.5 * case.drum.axial_length();
     let max_overlap = case.run.max_overlap;
+    let source = source(case);
     for w in ps.windows(2) {
         if w[0].id == w[1].id && (mine(&w[0]) || mine(&w[1])) {
-            return Err(format!("init: particle id {} appears twice", w[0].id));
+            return Err(duplicate(case, w[0].id));
         }
     }
-    let source = case.init.file.as_deref().map_or_else(
-        || "[[init.particle]]".to_string(),
-        |f| format!("init.file {f}"),
-    );
     let unusable: Vec<String> = ps.iter().filter(|p| mine(p)).filter_map(unusable).collect();
     if let Some(first) = unusable.first() {
         let more = match unusable.len() {

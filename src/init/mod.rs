@@ -9,7 +9,7 @@ pub mod keyed;
 mod lattice;
 pub mod pour;
 
-pub use explicit::{duplicate_id, explicit};
+pub use explicit::{duplicate, duplicate_id, explicit};
 pub use lattice::{fcc_spacing, lattice};
 
 use crate::case::{Case, InitKind};

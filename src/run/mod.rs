@@ -178,7 +178,7 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             };
             let (initial, start_scale) = init;
             if let Some(id) = crate::init::duplicate_id(&initial, comm) {
-                return Err(format!("init: particle id {id} appears twice"));
+                return Err(crate::init::duplicate(case, id));
             }
             let mut sim = Sim::new(case, comm, &initial).map_err(|e| e.to_string())?;
             drop(initial);
