@@ -5,8 +5,13 @@
 
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
+use crate::physics::batch::{
+    Batch, BatchLaw, HertzNormal, HistoryTangential, LinearNormal, NormalPart, RapaportBatch,
+    SpringDashpotBatch, ViscousTangential, LANES,
+};
 use crate::physics::integrate::min_image;
 use crate::physics::rough_wall::is_fixed;
+use crate::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
 #[inline]
@@ -22,7 +27,287 @@ fn body(p: &Particles, i: usize, scale: f64) -> Body {
 /// Add the pair contacts to the forces and torques of all local particles (after
 /// [`wall_and_body_forces`]); `scale` multiplies every diameter (1 except while a pour
 /// fill grows its particles).
+///
+/// The touching pairs are picked out of the list first, without a branch; their forces
+/// are then computed [`LANES`] at a time by the run's law as a [`BatchLaw`] (vectorised,
+/// with the widest instruction set this CPU has, see [`Isa`]) and added in list order.
+/// The result is the same bits as [`pair_forces_reference`].
 pub fn pair_forces(
+    p: &mut Particles,
+    nl: &mut NeighborList,
+    law: &ContactLaw,
+    mat: &Materials,
+    period: Option<f64>,
+    scale: f64,
+) {
+    pair_forces_with(Isa::detect(), p, nl, law, mat, period, scale)
+}
+
+/// [`pair_forces`] with a chosen instruction set (`Isa::Reference` is
+/// [`pair_forces_reference`]); an instruction set this CPU lacks falls back to the best
+/// it has.
+pub fn pair_forces_with(
+    isa: Isa,
+    p: &mut Particles,
+    nl: &mut NeighborList,
+    law: &ContactLaw,
+    mat: &Materials,
+    period: Option<f64>,
+    scale: f64,
+) {
+    if isa == Isa::Reference {
+        return pair_forces_reference(p, nl, law, mat, period, scale);
+    }
+    let isa = isa.min(Isa::detect());
+    let pass = Pass {
+        mat,
+        period,
+        scale,
+        cutoff: law,
+    };
+    match *law {
+        ContactLaw::Rapaport { gamma_n, .. } => pass.run(isa, &RapaportBatch { gamma_n }, p, nl),
+        ContactLaw::SpringDashpot(SpringDashpot { normal, tangential }) => {
+            match (normal, tangential) {
+                (NormalLaw::Linear { k0, two_gamma }, t) => {
+                    pass.spring_dashpot(isa, LinearNormal { k0, two_gamma }, t, p, nl)
+                }
+                (NormalLaw::Hertz { kh, gamma_h }, t) => {
+                    pass.spring_dashpot(isa, HertzNormal { kh, gamma_h }, t, p, nl)
+                }
+            }
+        }
+    }
+}
+
+/// The instruction sets the pair pass is compiled for, in increasing width. One binary
+/// runs on any x86-64 and picks the widest its CPU has ([`Isa::detect`]); every choice gives
+/// the same bits. `TUMBLER_ISA=reference|base|avx2|avx512` in the environment caps the choice
+/// (for benchmarks and tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Isa {
+    /// The per-pair scalar laws ([`pair_forces_reference`]).
+    Reference,
+    /// Batches with the target's baseline vectors (SSE2 on x86-64, NEON on aarch64).
+    Base,
+    /// Batches compiled for AVX2 (x86-64).
+    Avx2,
+    /// Batches compiled for AVX-512F (x86-64).
+    Avx512,
+}
+
+impl Isa {
+    /// The widest instruction set of this CPU, capped by `TUMBLER_ISA` if set.
+    pub fn detect() -> Isa {
+        static CHOSEN: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *CHOSEN.get_or_init(|| {
+            let cpu = Isa::of_cpu();
+            match std::env::var("TUMBLER_ISA").ok().as_deref() {
+                Some("reference") => Isa::Reference,
+                Some("base") => Isa::Base,
+                Some("avx2") => cpu.min(Isa::Avx2),
+                Some("avx512") => cpu.min(Isa::Avx512),
+                _ => cpu,
+            }
+        })
+    }
+
+    /// The widest instruction set of this CPU.
+    pub fn of_cpu() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Base
+    }
+
+    /// Its name, as `TUMBLER_ISA` spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Reference => "reference",
+            Isa::Base => "base",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+}
+
+/// What a pair pass needs besides the particles and the list.
+#[derive(Clone, Copy)]
+struct Pass<'a> {
+    mat: &'a Materials,
+    period: Option<f64>,
+    scale: f64,
+    /// The law, for its cutoff while particles are scaled.
+    cutoff: &'a ContactLaw,
+}
+
+impl Pass<'_> {
+    fn spring_dashpot<N: NormalPart>(
+        self,
+        isa: Isa,
+        normal: N,
+        t: TangentialLaw,
+        p: &mut Particles,
+        nl: &mut NeighborList,
+    ) {
+        match t {
+            TangentialLaw::Viscous { gamma_s } => {
+                let tangential = ViscousTangential { gamma_s };
+                self.run(isa, &SpringDashpotBatch { normal, tangential }, p, nl)
+            }
+            TangentialLaw::History { ratio, dt } => {
+                let tangential = HistoryTangential { ratio, dt };
+                self.run(isa, &SpringDashpotBatch { normal, tangential }, p, nl)
+            }
+        }
+    }
+
+    fn run<L: BatchLaw>(self, isa: Isa, law: &L, p: &mut Particles, nl: &mut NeighborList) {
+        match isa {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `isa` is at most what `Isa::detect` found on this CPU.
+            Isa::Avx512 => unsafe { self.run_avx512(law, p, nl) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as above.
+            Isa::Avx2 => unsafe { self.run_avx2(law, p, nl) },
+            _ => self.run_any(law, p, nl),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn run_avx512<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
+        self.run_any(law, p, nl)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn run_avx2<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
+        self.run_any(law, p, nl)
+    }
+
+    /// The pass itself, inlined into each instruction set's copy.
+    #[inline(always)]
+    fn run_any<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
+        let m = self.touching::<L>(p, nl);
+        let touch = std::mem::take(&mut nl.touch);
+        let mut b = Batch::default();
+        for chunk in touch[..m].chunks(LANES) {
+            self.gather::<L>(&mut b, chunk, p, nl);
+            law.eval(&mut b);
+            Self::scatter::<L>(&b, chunk, p, nl);
+        }
+        nl.touch = touch;
+    }
+
+    /// Put the list indices of the pairs that touch in `nl.touch`, in list order, and return
+    /// how many; a pair that does not touch loses its history.
+    #[inline(always)]
+    fn touching<L: BatchLaw>(self, p: &Particles, nl: &mut NeighborList) -> usize {
+        let n = nl.pairs.len();
+        let touch = &mut nl.touch;
+        if touch.len() < n + 1 {
+            touch.resize(n + 1, 0);
+        }
+        let full_size = self.scale == 1.0;
+        let mut m = 0;
+        for (k, (&(a, b), &cut2)) in nl.pairs.iter().zip(&nl.cut2).enumerate() {
+            let (a, b) = (a as usize, b as usize);
+            let r = self.separation(p, a, b);
+            let rc2 = if full_size {
+                cut2
+            } else {
+                let rc = self
+                    .cutoff
+                    .cutoff(p.diameter[a] * self.scale, p.diameter[b] * self.scale);
+                rc * rc
+            };
+            let touches = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < rc2;
+            // written always, kept only when it touches: no branch to mispredict
+            touch[m] = k as u32;
+            m += touches as usize;
+            if L::HISTORY {
+                let h = &mut nl.hist[k];
+                *h = if touches { *h } else { [0.0; 3] };
+            }
+        }
+        m
+    }
+
+    /// `x_a - x_b`, the axial part the minimum image with periodic ends.
+    #[inline(always)]
+    fn separation(self, p: &Particles, a: usize, b: usize) -> [f64; 3] {
+        let (xa, xb) = (p.x[a], p.x[b]);
+        let mut dz = xa[2] - xb[2];
+        if let Some(l) = self.period {
+            dz = min_image(dz, l);
+        }
+        [xa[0] - xb[0], xa[1] - xb[1], dz]
+    }
+
+    /// Load a chunk of touching pairs into the batch's lanes.
+    #[inline(always)]
+    fn gather<L: BatchLaw>(self, b: &mut Batch, chunk: &[u32], p: &Particles, nl: &NeighborList) {
+        if chunk.len() < b.len || b.len == 0 {
+            *b = Batch::default();
+        }
+        b.len = chunk.len();
+        for (l, &k) in chunk.iter().enumerate() {
+            let (a, c) = nl.pairs[k as usize];
+            let (a, c) = (a as usize, c as usize);
+            let r = self.separation(p, a, c);
+            let fr = self.mat.pair(p.species[a], p.species[c]);
+            let (va, vc, wa, wc) = (p.v[a], p.v[c], p.w[a], p.w[c]);
+            for q in 0..3 {
+                b.r[q][l] = r[q];
+                b.v[q][l] = va[q] - vc[q];
+                b.wa[q][l] = wa[q];
+                b.wb[q][l] = wc[q];
+            }
+            b.da[l] = p.diameter[a] * self.scale;
+            b.db[l] = p.diameter[c] * self.scale;
+            b.ima[l] = p.inv_mass[a];
+            b.imb[l] = p.inv_mass[c];
+            b.gamma_s[l] = fr.gamma_s;
+            b.mu[l] = fr.mu;
+            if L::HISTORY {
+                let h = nl.hist[k as usize];
+                for q in 0..3 {
+                    b.hist[q][l] = h[q];
+                }
+            }
+        }
+    }
+
+    /// Add a batch's forces and torques in list order, and store its histories.
+    #[inline(always)]
+    fn scatter<L: BatchLaw>(b: &Batch, chunk: &[u32], p: &mut Particles, nl: &mut NeighborList) {
+        for (l, &k) in chunk.iter().enumerate() {
+            let (a, c) = nl.pairs[k as usize];
+            let (a, c) = (a as usize, c as usize);
+            for q in 0..3 {
+                p.f[a][q] += b.force[q][l];
+                p.f[c][q] -= b.force[q][l];
+                p.t[a][q] -= b.torque_a[q][l];
+                p.t[c][q] -= b.torque_b[q][l];
+            }
+            if L::HISTORY {
+                nl.hist[k as usize] = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
+            }
+        }
+    }
+}
+
+/// The reference pair pass: each listed pair in turn through the scalar law
+/// ([`ContactLaw::pair`]). [`pair_forces`] gives the same bits faster; this one is kept as
+/// the reference that tests and benchmarks compare it with.
+pub fn pair_forces_reference(
     p: &mut Particles,
     nl: &mut NeighborList,
     law: &ContactLaw,
@@ -70,9 +355,13 @@ pub fn pair_forces(
 }
 
 /// Zero the forces and torques of all local particles, then give the owned ones their wall
-/// forces and gravity (along `-y`). Reads no ghost.
+/// forces and gravity (along `-y`). Only the particles of `near` (the list of those within
+/// reach of a wall, [`NeighborList::list_near_walls`]) are tested against the walls; the
+/// others have no wall contact until the next rebuild, and their force is gravity alone,
+/// the same bits as a wall sum of nothing plus gravity. Reads no ghost.
 pub fn wall_and_body_forces(
     p: &mut Particles,
+    near: &[u32],
     walls: &DrumWalls,
     law: &ContactLaw,
     mat: &Materials,
@@ -85,10 +374,8 @@ pub fn wall_and_body_forces(
     for t in p.t.iter_mut() {
         *t = [0.0; 3];
     }
-    for i in 0..p.n_owned {
-        if is_fixed(p.species[i]) {
-            continue;
-        }
+    for &i in near {
+        let i = i as usize;
         let b = body(p, i, scale);
         let load = walls.load(
             law,
@@ -102,6 +389,10 @@ pub fn wall_and_body_forces(
             p.f[i][k] += load.force[k];
             p.t[i][k] += load.torque[k];
         }
-        p.f[i][1] -= gravity / p.inv_mass[i];
+    }
+    for i in 0..p.n_owned {
+        if !is_fixed(p.species[i]) {
+            p.f[i][1] -= gravity / p.inv_mass[i];
+        }
     }
 }

@@ -13,8 +13,9 @@
 
 use crate::particles::Particles;
 use crate::physics::integrate::min_image;
+use crate::physics::materials::WALLS;
 use crate::physics::rough_wall::is_fixed;
-use crate::physics::ContactLaw;
+use crate::physics::{ContactLaw, DrumWalls};
 
 /// Cells searched on each side of a particle's own: cells are at least `reach / SPAN` wide,
 /// so a particle's `(2 SPAN + 1)^3` cells hold every partner within `reach`, in a smaller
@@ -36,6 +37,11 @@ pub struct NeighborList {
     pub cut2: Vec<f64>,
     /// Positions of the owned particles when the list was built.
     x_build: Vec<[f64; 3]>,
+    /// The owned mobile particles within reach of a wall at the last build, plus the skin:
+    /// the only ones that can touch a wall before the next build.
+    pub near_walls: Vec<u32>,
+    /// Scratch of the pair pass (`engine::forces`): the list indices of the touching pairs.
+    pub(crate) touch: Vec<u32>,
     /// Scratch: particles sorted by cell, and each cell's start in it.
     cell_items: Vec<u32>,
     cell_start: Vec<u32>,
@@ -231,6 +237,30 @@ impl NeighborList {
         self.x_build.extend_from_slice(&p.x[..p.n_owned]);
         self.hist.clear();
         self.hist.resize(self.pairs.len(), [0.0; 3]);
+    }
+
+    /// List the owned mobile particles that may touch a wall before the next build (closer to
+    /// it than their reach plus `skin`: no particle moves half the skin between builds), and
+    /// clear the wall histories of the others, which touch no wall. A particle's reach is
+    /// taken at full size, so the list holds while a pour grows the particles.
+    pub fn list_near_walls(
+        &mut self,
+        p: &mut Particles,
+        walls: &DrumWalls,
+        law: &ContactLaw,
+        skin: f64,
+    ) {
+        self.near_walls.clear();
+        for i in 0..p.n_owned {
+            if is_fixed(p.species[i]) {
+                continue;
+            }
+            if walls.near(p.x[i], law.wall_reach(p.diameter[i]) + skin) {
+                self.near_walls.push(i as u32);
+            } else {
+                p.wall_hist[i] = [[0.0; 3]; WALLS];
+            }
+        }
     }
 
     /// The histories of the contacts in force, sorted by ids, each contact once.

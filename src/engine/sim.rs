@@ -369,11 +369,12 @@ impl<'c> Sim<'c> {
             &mut self.ghost_bufs,
         );
         let (walls, law, mat, g, scale) = (&self.walls, &law, &self.mat, self.gravity, self.scale);
+        let near = &self.nl.near_walls;
         let mut wall_secs = 0.0;
         let start = Instant::now();
         halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |p| {
             let t0 = Instant::now();
-            wall_and_body_forces(p, walls, law, mat, g, scale);
+            wall_and_body_forces(p, near, walls, law, mat, g, scale);
             wall_secs += t0.elapsed().as_secs_f64();
         });
         let total = start.elapsed().as_secs_f64();
@@ -443,11 +444,14 @@ impl<'c> Sim<'c> {
         let (z_lo, z_hi) = self.slabs.range(self.comm.rank());
         let r = self.walls.radius + self.reach;
         let (box_lo, box_hi) = ([-r, -r, z_lo - self.reach], [r, r, z_hi + self.reach]);
-        let (nl, p, skin, law, reach) = (&mut self.nl, &self.p, self.skin, &self.law, self.reach);
+        let (nl, p, skin, law, reach) =
+            (&mut self.nl, &mut self.p, self.skin, &self.law, self.reach);
+        let walls = &self.walls;
         self.timers.time(Phase::Neighbor, || {
             // cells over the particles' bounding box: they grow with the bed, not the drum
             let cell = reach / super::neighbor::SPAN as f64;
             nl.build(p, &Grid::around(p, cell, box_lo, box_hi), skin, law);
+            nl.list_near_walls(p, walls, law, skin);
             if history {
                 nl.attach_histories(p, &saved);
             }
@@ -475,8 +479,9 @@ impl<'c> Sim<'c> {
             self.gravity,
             self.scale,
         );
+        let near = &self.nl.near_walls;
         self.timers.time(Phase::Walls, || {
-            wall_and_body_forces(p, walls, &law, mat, g, scale)
+            wall_and_body_forces(p, near, walls, &law, mat, g, scale)
         });
     }
 

@@ -1,6 +1,7 @@
 //! Physics kernels as plain functions on plain data: contact laws, walls, integration.
 //! Nothing here speaks MPI or does I/O.
 
+pub mod batch;
 pub mod contact;
 pub mod integrate;
 pub mod law;

@@ -32,6 +32,22 @@ pub struct WallLoad {
 }
 
 impl DrumWalls {
+    /// Whether a particle centred at `x` is within `reach` of a wall (where [`Self::load`]
+    /// may find a contact for a particle of that reach or less).
+    pub fn near(&self, x: [f64; 3], reach: f64) -> bool {
+        let inner = self.radius - reach;
+        let rho2 = if self.sphere {
+            x[0] * x[0] + x[1] * x[1] + x[2] * x[2]
+        } else {
+            x[0] * x[0] + x[1] * x[1]
+        };
+        let curved = inner <= 0.0 || rho2 > inner * inner;
+        let caps = self.capped
+            && !self.sphere
+            && (x[2] + self.half_length < reach || self.half_length - x[2] < reach);
+        curved || caps
+    }
+
     /// Sum of the wall forces on a particle at `x` (curved wall or sphere first, then the cap
     /// at `-L/2`, then at `+L/2`), updating its wall histories `hist`.
     #[inline]

@@ -1,0 +1,422 @@
+//! The pair contact laws evaluated on batches of touching pairs, lane by lane.
+//!
+//! The pair pass (`engine/forces.rs`) first picks out the listed pairs that touch, then hands
+//! them to these kernels [`LANES`] at a time in struct-of-arrays form ([`Batch`]). Each lane
+//! performs exactly the IEEE operations, in the same order, of the scalar laws of
+//! [`super::rapaport`] and [`super::spring_dashpot`] (which stay the reference, and serve the
+//! walls): their branches become selects whose other side is computed and discarded, so the
+//! loops over the lanes have no branch and the compiler vectorises them. Rust never
+//! contracts `a * b + c` into a fused multiply-add nor uses approximate reciprocals, and
+//! IEEE division and square root are correctly rounded in every width, so a lane gives the
+//! same bits whatever the vector width: the SSE2, AVX2 and AVX-512 builds of
+//! `engine::forces` and the scalar reference agree bit for bit (`tests/contact_batch.rs`).
+//!
+//! A law is a type implementing [`BatchLaw`], chosen once per force pass from the run's
+//! [`ContactLaw`](super::ContactLaw), so the inner loop is monomorphised: no dispatch per
+//! contact. The spring-dashpot law is composed of a normal part ([`NormalPart`]) and a
+//! tangential part ([`TangentialPart`]), each a small type with one inlined lane function.
+
+/// Pairs per batch: one AVX-512 register of `f64`, two of AVX2, four of SSE2.
+pub const LANES: usize = 8;
+
+/// One lane-wide column of `f64`.
+pub type Col = [f64; LANES];
+
+/// A batch of touching pairs, struct of arrays: the inputs a law reads, the history it
+/// updates and the force and torques it returns. Lanes past `len` hold harmless values
+/// (a unit separation of unit spheres at rest) and their results are ignored.
+#[derive(Debug, Clone)]
+pub struct Batch {
+    /// Number of lanes in use.
+    pub len: usize,
+    /// `r = x_a - x_b` (minimum image).
+    pub r: [Col; 3],
+    /// `v_a - v_b`.
+    pub v: [Col; 3],
+    /// Angular velocity of `a`.
+    pub wa: [Col; 3],
+    /// Angular velocity of `b`.
+    pub wb: [Col; 3],
+    /// Diameter of `a`.
+    pub da: Col,
+    /// Diameter of `b`.
+    pub db: Col,
+    /// `1/m` of `a`.
+    pub ima: Col,
+    /// `1/m` of `b` (0 for a particle of a rough wall).
+    pub imb: Col,
+    /// Sliding friction coefficient `gamma_s` of the pair's materials.
+    pub gamma_s: Col,
+    /// Static friction coefficient `mu` of the pair's materials.
+    pub mu: Col,
+    /// Tangential history (read and written by laws that keep one).
+    pub hist: [Col; 3],
+    /// Force on `a` (`b` receives its negative).
+    pub force: [Col; 3],
+    /// `(d_a/2) n x f_s`, subtracted from the torque of `a`.
+    pub torque_a: [Col; 3],
+    /// `(d_b/2) n x f_s`, subtracted from the torque of `b`.
+    pub torque_b: [Col; 3],
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        let z = [0.0; LANES];
+        let one = [1.0; LANES];
+        Batch {
+            len: 0,
+            r: [one, z, z],
+            v: [z; 3],
+            wa: [z; 3],
+            wb: [z; 3],
+            da: one,
+            db: one,
+            ima: one,
+            imb: one,
+            gamma_s: z,
+            mu: z,
+            hist: [z; 3],
+            force: [z; 3],
+            torque_a: [z; 3],
+            torque_b: [z; 3],
+        }
+    }
+}
+
+/// A pair contact law on a batch.
+pub trait BatchLaw: Copy {
+    /// Whether contacts carry a tangential history (`Batch::hist` read and written).
+    const HISTORY: bool;
+    /// Evaluate every lane of `b`: `b.force`, `b.torque_a`, `b.torque_b` and, with a
+    /// history, `b.hist`.
+    fn eval(&self, b: &mut Batch);
+}
+
+/// The inputs of one lane, as the scalar laws see them.
+#[derive(Debug, Clone, Copy)]
+struct Lane {
+    r: [f64; 3],
+    v: [f64; 3],
+    wa: [f64; 3],
+    wb: [f64; 3],
+    da: f64,
+    db: f64,
+    ima: f64,
+    imb: f64,
+    gamma_s: f64,
+    mu: f64,
+}
+
+impl Batch {
+    #[inline(always)]
+    fn lane(&self, l: usize) -> Lane {
+        let c = |x: &[Col; 3]| [x[0][l], x[1][l], x[2][l]];
+        Lane {
+            r: c(&self.r),
+            v: c(&self.v),
+            wa: c(&self.wa),
+            wb: c(&self.wb),
+            da: self.da[l],
+            db: self.db[l],
+            ima: self.ima[l],
+            imb: self.imb[l],
+            gamma_s: self.gamma_s[l],
+            mu: self.mu[l],
+        }
+    }
+
+    #[inline(always)]
+    fn put(&mut self, l: usize, force: [f64; 3], n_cross_fs: [f64; 3], da: f64, db: f64) {
+        let (ha, hb) = (0.5 * da, 0.5 * db);
+        for k in 0..3 {
+            self.force[k][l] = force[k];
+            self.torque_a[k][l] = n_cross_fs[k] * ha;
+            self.torque_b[k][l] = n_cross_fs[k] * hb;
+        }
+    }
+}
+
+// Vector helpers with nalgebra's operation order (`dot` = `x + y + z` of the products,
+// `cross` as `Vector3::cross`), so that a lane repeats the scalar laws' arithmetic.
+#[inline(always)]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[inline(always)]
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+#[inline(always)]
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+#[inline(always)]
+fn select3(c: bool, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        if c { a[0] } else { b[0] },
+        if c { a[1] } else { b[1] },
+        if c { a[2] } else { b[2] },
+    ]
+}
+
+/// Rapaport's law (`rapaport::pair`) on a batch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RapaportBatch {
+    /// Normal damping coefficient.
+    pub gamma_n: f64,
+}
+
+impl BatchLaw for RapaportBatch {
+    const HISTORY: bool = false;
+
+    #[inline(always)]
+    fn eval(&self, b: &mut Batch) {
+        for l in 0..LANES {
+            let s = b.lane(l);
+            let d_ab = 0.5 * (s.da + s.db);
+            let rr = dot(s.r, s.r).sqrt();
+            let n = [s.r[0] / rr, s.r[1] / rr, s.r[2] / rr];
+            let vn = dot(n, s.v);
+            // eq. (1): zero at and beyond the cutoff (the pass's test is on r^2)
+            let q = d_ab / rr;
+            let q6 = q * q * q * q * q * q;
+            let rep = 48.0 / rr * (q6 * q6 - 0.5 * q6);
+            let rep = if rr >= super::rapaport::cutoff(d_ab) {
+                0.0
+            } else {
+                rep
+            };
+            let f_n = rep - self.gamma_n * vn;
+            let sum_d = s.da + s.db;
+            let w_eff = [
+                (s.wa[0] * s.da + s.wb[0] * s.db) / sum_d,
+                (s.wa[1] * s.da + s.wb[1] * s.db) / sum_d,
+                (s.wa[2] * s.da + s.wb[2] * s.db) / sum_d,
+            ];
+            let wxr = cross(w_eff, s.r);
+            let v_s = [
+                s.v[0] - n[0] * vn - wxr[0],
+                s.v[1] - n[1] * vn - wxr[1],
+                s.v[2] - n[2] * vn - wxr[2],
+            ];
+            let f_s = viscous(v_s, s.gamma_s, s.mu * f_n.abs());
+            let force = [
+                n[0] * f_n + f_s[0],
+                n[1] * f_n + f_s[1],
+                n[2] * f_n + f_s[2],
+            ];
+            b.put(l, force, cross(n, f_s), s.da, s.db);
+        }
+    }
+}
+
+/// `-min(gamma |v_s|, cap) v_s/|v_s|`, zero when `v_s` is.
+#[inline(always)]
+fn viscous(v_s: [f64; 3], gamma: f64, cap: f64) -> [f64; 3] {
+    let vs = norm(v_s);
+    let mag = (gamma * vs).min(cap);
+    let f = scale(v_s, -mag / vs);
+    select3(vs == 0.0, [0.0; 3], f)
+}
+
+/// The normal part of a spring-dashpot law: force along `n`, normal stiffness (for the
+/// tangential spring) and dashpot coefficient, as `SpringDashpot::normal`.
+pub trait NormalPart: Copy {
+    /// `(f_n, k_n, dash)` at overlap `a`, normal velocity `vn`, effective mass `m_eff` and
+    /// effective radius `r_eff`.
+    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64) -> (f64, f64, f64);
+}
+
+/// Linear spring and dashpot (`NormalLaw::Linear`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearNormal {
+    /// `(pi/t_c)^2 + gamma_n^2`.
+    pub k0: f64,
+    /// `2 gamma_n`.
+    pub two_gamma: f64,
+}
+
+impl NormalPart for LinearNormal {
+    #[inline(always)]
+    fn lane(&self, a: f64, vn: f64, m_eff: f64, _r_eff: f64) -> (f64, f64, f64) {
+        let dash = self.two_gamma * m_eff;
+        (m_eff * (self.k0 * a) - dash * vn, m_eff * self.k0, dash)
+    }
+}
+
+/// Hertz with its non-linear damping (`NormalLaw::Hertz`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzNormal {
+    /// `2 Y / (3 (1 - nu^2))`.
+    pub kh: f64,
+    /// Damping coefficient.
+    pub gamma_h: f64,
+}
+
+impl NormalPart for HertzNormal {
+    #[inline(always)]
+    fn lane(&self, a: f64, vn: f64, _m_eff: f64, r_eff: f64) -> (f64, f64, f64) {
+        let sa = a.sqrt();
+        let k = self.kh * r_eff.sqrt() * sa;
+        let dash = self.gamma_h * sa;
+        (k * a - dash * vn, 1.5 * k, dash)
+    }
+}
+
+/// The tangential part of a spring-dashpot law, as `SpringDashpot::tangential`.
+pub trait TangentialPart: Copy {
+    /// Whether it keeps a history.
+    const HISTORY: bool;
+    /// Tangential force from the sliding velocity `v_s`, updating `hist`.
+    #[allow(clippy::too_many_arguments)]
+    fn lane(
+        &self,
+        n: [f64; 3],
+        v_s: [f64; 3],
+        f_n: f64,
+        k_n: f64,
+        dash: f64,
+        mu: f64,
+        hist: &mut [f64; 3],
+    ) -> [f64; 3];
+}
+
+/// Viscous with a Coulomb cap (`TangentialLaw::Viscous`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViscousTangential {
+    /// Fixed `gamma_s`, or the pair's normal dashpot coefficient.
+    pub gamma_s: Option<f64>,
+}
+
+impl TangentialPart for ViscousTangential {
+    const HISTORY: bool = false;
+
+    #[inline(always)]
+    fn lane(
+        &self,
+        _n: [f64; 3],
+        v_s: [f64; 3],
+        f_n: f64,
+        _k_n: f64,
+        dash: f64,
+        mu: f64,
+        _hist: &mut [f64; 3],
+    ) -> [f64; 3] {
+        viscous(v_s, self.gamma_s.unwrap_or(dash), mu * f_n.abs())
+    }
+}
+
+/// The Cundall-Strack spring (`TangentialLaw::History`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HistoryTangential {
+    /// `k_s / k_n`.
+    pub ratio: f64,
+    /// Time step.
+    pub dt: f64,
+}
+
+impl TangentialPart for HistoryTangential {
+    const HISTORY: bool = true;
+
+    #[inline(always)]
+    fn lane(
+        &self,
+        n: [f64; 3],
+        v_s: [f64; 3],
+        f_n: f64,
+        k_n: f64,
+        _dash: f64,
+        mu: f64,
+        hist: &mut [f64; 3],
+    ) -> [f64; 3] {
+        let cap = mu * f_n.abs();
+        let k_s = self.ratio * k_n;
+        let old = *hist;
+        // turn the stored displacement into the current tangent plane, keeping its length
+        let along = dot(n, old);
+        let mut beta = [
+            old[0] - n[0] * along,
+            old[1] - n[1] * along,
+            old[2] - n[2] * along,
+        ];
+        let (l_old, l_new) = (norm(old), norm(beta));
+        beta = select3(l_new > 0.0, scale(beta, l_old / l_new), beta);
+        for k in 0..3 {
+            beta[k] += v_s[k] * self.dt;
+        }
+        let f_s = scale(beta, -k_s);
+        let mag = norm(f_s);
+        // sliding: cut back to the Coulomb limit
+        let slide = mag > cap;
+        let f_cut = scale(f_s, cap / mag);
+        let f_s = select3(slide, f_cut, f_s);
+        *hist = select3(slide, scale(f_cut, -1.0 / k_s), beta);
+        f_s
+    }
+}
+
+/// A spring-dashpot law on a batch: normal part `N`, tangential part `T`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpringDashpotBatch<N, T> {
+    /// Normal part.
+    pub normal: N,
+    /// Tangential part.
+    pub tangential: T,
+}
+
+impl<N: NormalPart, T: TangentialPart> BatchLaw for SpringDashpotBatch<N, T> {
+    const HISTORY: bool = T::HISTORY;
+
+    #[inline(always)]
+    fn eval(&self, b: &mut Batch) {
+        for l in 0..LANES {
+            let s = b.lane(l);
+            let d_ab = 0.5 * (s.da + s.db);
+            let rr = dot(s.r, s.r).sqrt();
+            let n = scale(s.r, 1.0 / rr);
+            let overlap = d_ab - rr;
+            let m_eff = 1.0 / (s.ima + s.imb);
+            let inv_d = 1.0 / (s.da + s.db);
+            let vn = dot(n, s.v);
+            let r_eff = 0.5 * s.da * s.db * inv_d;
+            let (f_n, k_n, dash) = self.normal.lane(overlap, vn, m_eff, r_eff);
+            // eq. 2.16: sliding velocity with both spins
+            let w_eff = [
+                (s.wa[0] * s.da + s.wb[0] * s.db) * inv_d,
+                (s.wa[1] * s.da + s.wb[1] * s.db) * inv_d,
+                (s.wa[2] * s.da + s.wb[2] * s.db) * inv_d,
+            ];
+            let wxr = cross(w_eff, s.r);
+            let v_s = [
+                s.v[0] - n[0] * vn - wxr[0],
+                s.v[1] - n[1] * vn - wxr[1],
+                s.v[2] - n[2] * vn - wxr[2],
+            ];
+            let mut h = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
+            let f_s = self.tangential.lane(n, v_s, f_n, k_n, dash, s.mu, &mut h);
+            if T::HISTORY {
+                for (k, hk) in h.iter().enumerate() {
+                    b.hist[k][l] = *hk;
+                }
+            }
+            let force = [
+                n[0] * f_n + f_s[0],
+                n[1] * f_n + f_s[1],
+                n[2] * f_n + f_s[2],
+            ];
+            b.put(l, force, cross(n, f_s), s.da, s.db);
+        }
+    }
+}
