@@ -193,41 +193,43 @@ impl NeighborList {
                 grid.coord(zi, 2),
             ];
             let range = |k: usize| c[k].saturating_sub(SPAN)..=(c[k] + SPAN).min(grid.n[k] - 1);
-            self.partners.clear();
+            // candidates are written always and kept (the count advanced) when they qualify:
+            // no branch to mispredict in the inner loop
+            let mut m = 0;
             // cells along x are adjacent in the cell order: one contiguous run of slots per row
             let (x_lo, x_hi) = (*range(0).start(), *range(0).end());
             for cz in range(2) {
                 for cy in range(1) {
-                    {
-                        let s = self.cell_start[grid.index([x_lo, cy, cz])] as usize;
-                        let e = self.cell_start[grid.index([x_hi, cy, cz]) + 1] as usize;
-                        for s in s..e {
-                            let id_j = self.slot_id[s];
-                            let flags = self.slot_flags[s];
-                            // higher ids only; a ghost pairs only with owned particles;
-                            // wall particles do not touch each other
-                            if id_j <= id_i
-                                || (!owned_i && flags & 1 == 0)
-                                || (fixed_i && flags & 2 != 0)
-                            {
-                                continue;
-                            }
-                            let xj = self.slot_x[s];
-                            let dx = xi[0] - xj[0];
-                            let dy = xi[1] - xj[1];
-                            let dz = zi - xj[2];
-                            // the list's range needs no last-bit care: a pair near it is a
-                            // skin away from touching
-                            let reach = half_i + xj[3] + skin;
-                            if dx * dx + dy * dy + dz * dz < reach * reach {
-                                self.partners.push((id_j, self.cell_items[s]));
-                            }
-                        }
+                    let s = self.cell_start[grid.index([x_lo, cy, cz])] as usize;
+                    let e = self.cell_start[grid.index([x_hi, cy, cz]) + 1] as usize;
+                    if self.partners.len() < m + (e - s) {
+                        self.partners.resize(m + (e - s), (0, 0));
+                    }
+                    for s in s..e {
+                        let id_j = self.slot_id[s];
+                        let flags = self.slot_flags[s];
+                        let xj = self.slot_x[s];
+                        let dx = xi[0] - xj[0];
+                        let dy = xi[1] - xj[1];
+                        let dz = zi - xj[2];
+                        // the list's range needs no last-bit care: a pair near it is a
+                        // skin away from touching
+                        let reach = half_i + xj[3] + skin;
+                        let close = dx * dx + dy * dy + dz * dz < reach * reach;
+                        // higher ids only; a ghost pairs only with owned particles; wall
+                        // particles do not touch each other
+                        let keep = close
+                            & (id_j > id_i)
+                            & (owned_i | (flags & 1 != 0))
+                            & !(fixed_i & (flags & 2 != 0));
+                        self.partners[m] = (id_j, self.cell_items[s]);
+                        m += keep as usize;
                     }
                 }
             }
-            self.partners.sort_unstable();
-            for &(_, j) in &self.partners {
+            let partners = &mut self.partners[..m];
+            partners.sort_unstable();
+            for &(_, j) in partners.iter() {
                 self.pairs.push((i as u32, j));
                 let c = law.cutoff(p.diameter[i], p.diameter[j as usize]);
                 self.cut2.push(c * c);
