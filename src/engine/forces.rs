@@ -232,9 +232,10 @@ impl Pass<'_> {
             // written always, kept only when it touches: no branch to mispredict
             touch[m] = k as u32;
             m += touches as usize;
-            if L::HISTORY {
-                let h = &mut nl.hist[k];
-                *h = if touches { *h } else { [0.0; 3] };
+            // a pair that has just come apart loses its history: rare, so the branch is
+            // predicted well, and the histories of pairs apart are read but not written
+            if L::HISTORY && !touches && nl.hist[k] != [0.0; 3] {
+                nl.hist[k] = [0.0; 3];
             }
         }
         m
