@@ -94,10 +94,12 @@ fn same_bits(law: ContactLaw, mat: &Materials, d: f64, scale: f64, period: Optio
     let side = 12.0 * d;
     let p = bed(1500, d, side, mat, 5);
     let mut rng = ChaCha8Rng::seed_from_u64(9);
-    // histories: zero, small (sticking) and large (sliding)
+    // histories: zero (of either sign: a pair apart keeps a -0.0 as the scalar law does),
+    // small (sticking) and large (sliding)
     let hist: Vec<[f64; 3]> = (0..40_000)
-        .map(|i| match i % 3 {
+        .map(|i| match i % 4 {
             0 => [0.0; 3],
+            3 => [-0.0, 0.0, -0.0],
             1 => [
                 rng.gen_range(-1e-3..1e-3) * d,
                 rng.gen_range(-1e-3..1e-3) * d,
