@@ -8,8 +8,8 @@ use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
 use tumbler::inspect::{
-    band_table, export_lammps, info, BandsOptions, InfoOptions, InspectError, RunReader,
-    EXIT_BAD_INPUT,
+    band_table, export_lammps, import_lammps, info, BandsOptions, ImportOptions, InfoOptions,
+    InspectError, LammpsKind, RunReader, EXIT_BAD_INPUT,
 };
 use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
@@ -92,6 +92,34 @@ enum Command {
         #[arg(long, value_name = "GROUP", default_value = "particles")]
         group: String,
     },
+    /// Read a LAMMPS/LIGGGHTS data file or text dump into an HDF5 `/particles` file that
+    /// `init.file` starts a run from (docs/interop.md).
+    Import {
+        /// `data` (a data file, atom_style sphere) or `dump` (a text dump).
+        #[arg(long, value_enum, value_name = "data|dump")]
+        lammps: LammpsArg,
+        /// The LAMMPS/LIGGGHTS file.
+        file: PathBuf,
+        /// The HDF5 file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Dump: the timestep to take (default the last).
+        #[arg(long, value_name = "STEP")]
+        timestep: Option<u64>,
+        /// Atom type to species index, e.g. `1=0,2=1` (default: species = type - 1).
+        #[arg(long, value_name = "TYPE=S,...")]
+        species: Option<String>,
+        /// The LAMMPS axes (signed) that become tumbler's x, y, z (axis z, gravity -y), e.g.
+        /// `y,z,x` for a drum along LAMMPS x with gravity along -z (default `x,y,z`).
+        #[arg(long, value_name = "A,B,C", allow_hyphen_values = true)]
+        axes: Option<String>,
+        /// Added to the positions after --axes (tumbler's origin: on the axis, mid-length).
+        #[arg(long, value_name = "DX,DY,DZ", allow_hyphen_values = true)]
+        offset: Option<String>,
+        /// Replace the output if it exists.
+        #[arg(long)]
+        overwrite: bool,
+    },
     /// Run reduced versions of the seed studies and check their results (under
     /// `mpirun -np N`; docs/validation.md). Exit code 4 if a check fails.
     Validate {
@@ -119,6 +147,15 @@ enum Command {
         #[command(subcommand)]
         what: PlotCommand,
     },
+}
+
+/// The formats `tumbler import --lammps` reads.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum LammpsArg {
+    /// A data file (atom_style sphere).
+    Data,
+    /// A text dump (LAMMPS `dump custom`, LIGGGHTS).
+    Dump,
 }
 
 /// The tiers of `tumbler validate`.
@@ -377,6 +414,31 @@ fn main() -> ExitCode {
             RunReader::open(&file)
                 .and_then(|r| export_lammps(&r, &lammps, Some(&group)))
                 .map(|e| e.to_string()),
+        ),
+        Command::Import {
+            lammps,
+            file,
+            output,
+            timestep,
+            species,
+            axes,
+            offset,
+            overwrite,
+        } => report(
+            import_lammps(&ImportOptions {
+                input: file,
+                kind: match lammps {
+                    LammpsArg::Data => LammpsKind::Data,
+                    LammpsArg::Dump => LammpsKind::Dump,
+                },
+                output,
+                timestep,
+                species,
+                axes,
+                offset,
+                overwrite,
+            })
+            .map(|i| i.to_string()),
         ),
         Command::Validate {
             tier,
