@@ -8,8 +8,8 @@ use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
 use tumbler::inspect::{
-    band_table, export_lammps, import_lammps, info, BandsOptions, ImportOptions, InfoOptions,
-    InspectError, LammpsKind, RunReader, EXIT_BAD_INPUT,
+    band_table, export_lammps, export_vtu, import_lammps, info, BandsOptions, ImportOptions,
+    InfoOptions, InspectError, LammpsKind, RunReader, EXIT_BAD_INPUT,
 };
 use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
@@ -80,17 +80,28 @@ enum Command {
         #[arg(long, value_name = "N")]
         min_slices: Option<usize>,
     },
-    /// Write a run's particles as a LAMMPS data file (`atom_style sphere`, with velocities).
+    /// Write a run's particles as a LAMMPS data file (`atom_style sphere`, with velocities),
+    /// or its snapshots as VTK `.vtu` files with a `.pvd` series.
     Export {
         /// The run's HDF5 file.
         file: PathBuf,
         /// The LAMMPS data file to write (`id type diameter density x y z`; id = tumbler id
         /// + 1, type = species + 1; box around the drum).
-        #[arg(long, value_name = "OUT.data")]
-        lammps: PathBuf,
-        /// The group to export: `particles` (the final state) or `snapshots/NNNNNNNNNN`.
-        #[arg(long, value_name = "GROUP", default_value = "particles")]
-        group: String,
+        #[arg(
+            long,
+            value_name = "OUT.data",
+            required_unless_present = "vtu",
+            conflicts_with = "vtu"
+        )]
+        lammps: Option<PathBuf>,
+        /// The folder for `STEM_NNNNNNNNNN.vtu` (one per snapshot), `STEM_drum.vtu` and
+        /// `STEM.pvd` (docs/interop.md).
+        #[arg(long, value_name = "DIR")]
+        vtu: Option<PathBuf>,
+        /// The group to export: `particles` (the final state) or `snapshots/NNNNNNNNNN`
+        /// (default: `particles` for --lammps, every snapshot for --vtu).
+        #[arg(long, value_name = "GROUP")]
+        group: Option<String>,
     },
     /// Read a LAMMPS/LIGGGHTS data file or text dump into an HDF5 `/particles` file that
     /// `init.file` starts a run from (docs/interop.md).
@@ -409,12 +420,15 @@ fn main() -> ExitCode {
         Command::Export {
             file,
             lammps,
+            vtu,
             group,
-        } => report(
-            RunReader::open(&file)
-                .and_then(|r| export_lammps(&r, &lammps, Some(&group)))
-                .map(|e| e.to_string()),
-        ),
+        } => report(RunReader::open(&file).and_then(|r| match (&lammps, &vtu) {
+            (Some(out), _) => export_lammps(&r, out, group.as_deref()).map(|e| e.to_string()),
+            (None, Some(dir)) => export_vtu(&r, dir, group.as_deref()).map(|e| e.to_string()),
+            (None, None) => Err(InspectError::Invalid(
+                "export: give --lammps OUT.data or --vtu DIR".into(),
+            )),
+        })),
         Command::Import {
             lammps,
             file,

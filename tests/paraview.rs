@@ -269,4 +269,44 @@ fn the_xmf_opens_in_paravews_default_reader_with_particles_drum_and_fields() {
             assert_eq!(*sum, finite_sum(v.into_iter()), "t = {t}: {name}");
         }
     }
+
+    // the same snapshots as .vtu files and a .pvd series
+    let vtk = dir.path().join("vtk");
+    let o = common::tumbler(&[
+        "export",
+        out.to_str().unwrap(),
+        "--vtu",
+        vtk.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (reader, steps) = read_in_paraview(&pv, &vtk.join("drum.pvd"));
+    assert_eq!(reader, "PVDReader");
+    let got: Vec<f64> = steps.iter().map(|s| s.0.unwrap()).collect();
+    let want: Vec<f64> = snaps.iter().map(|s| s.0).collect();
+    assert_eq!(got, want, "one time step per snapshot");
+    for ((t, blocks), snap) in steps.iter().zip(&snaps) {
+        assert_eq!(blocks.len(), 2, "t = {t:?}: particles and drum");
+        let g = format!("snapshots/{}", snap.1);
+        let pos = read_f64(&f, &format!("{g}/position"));
+        let n = pos.len() / 3;
+        let p = &blocks[0];
+        assert_eq!((p.points, p.cells), (n, n), "t = {t:?}");
+        assert_eq!(
+            p.point_arrays,
+            [
+                "diameter:1",
+                "species:1",
+                "id:1",
+                "velocity:3",
+                "angular_velocity:3"
+            ]
+        );
+        assert_eq!(p.point0, pos[..3]);
+        for name in ["diameter", "velocity", "angular_velocity"] {
+            let v = read_f64(&f, &format!("{g}/{name}"));
+            let (sum, _) = &p.sums[&("point".to_string(), name.to_string())];
+            assert_eq!(*sum, finite_sum(v.iter().copied()), "t = {t:?}: {name}");
+        }
+        assert_eq!((blocks[1].points, blocks[1].cells), (2 * 48 + 2, 4 * 48));
+    }
 }
