@@ -1,19 +1,19 @@
-//! The XDMF file beside a run's HDF5 file (`NAME.xmf`), so that ParaView (its default
-//! reader for `.xmf`, Xdmf3ReaderS, and the older XDMF reader) and VisIt open the run
-//! directly. It holds three grids (docs/interop.md):
+//! The XDMF file beside a run's HDF5 file (`NAME.xmf`), so that ParaView's default reader
+//! for `.xmf` (Xdmf3ReaderS; not the older XDMF reader, which stops on the `xi:include`s)
+//! opens the run directly. Each time step (every snapshot and every field window's end) is
+//! a spatial collection of three grids, each written once and included where it repeats
+//! (the reader shows at a time only the grids of that time; docs/interop.md):
 //!
-//! - `particles`: a temporal collection, one grid per snapshot, the particles as a
-//!   `Polyvertex` topology (one vertex cell per particle, so that ParaView's Surface and
-//!   Points views show them) with every particle array (diameter, species, id, velocity,
+//! - `particles`: the latest snapshot, the particles as a `Polyvertex` topology (one
+//!   vertex cell per particle, so that ParaView's Surface and Points views show them) with every particle array (diameter, species, id, velocity,
 //!   angular velocity) as point attributes. Xdmf3 makes no cells without a connectivity
 //!   array, so the first snapshot of each particle count carries `0 .. N-1` inline and the
 //!   others include that topology (`xi:include`).
 //! - `drum`: the drum's wall as a coarse triangle mesh in the lab frame (the frame of the
 //!   particle positions): a cylinder along `z` with its end caps (no caps when the ends are
-//!   periodic) or a sphere, from the case stored in the file. It has no time: it shows at
-//!   every time step.
-//! - `fields`: a temporal collection, one grid per `/fields` window (time: the window's
-//!   end), the bins as hexahedral cells with the binned fields as cell data. The bins are
+//!   periodic) or a sphere, from the case stored in the file.
+//! - `fields`: the latest `/fields` window, the bins as hexahedral cells with the binned
+//!   fields as cell data (one window and component of a dataset each). The bins are
 //!   cuboids in the *surface frame* (docs/diagnostics.md, "Frames"), so the grid's
 //!   coordinates are surface-frame coordinates: `x` down the free surface, `y` out of the
 //!   bed, `z` the axis. The datasets store `z` fastest, while an XDMF rectilinear mesh
