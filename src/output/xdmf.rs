@@ -548,3 +548,116 @@ pub fn write(output: &Path, file: &hdf5::File) -> Result<bool, String> {
         .map_err(|e| format!("writing {}: {e}", path.display()))?;
     Ok(true)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hdf5::types::VarLenUnicode;
+
+    const CASE: &str = include_str!("../../tests/cases/sd_capped.toml");
+
+    /// A file with one snapshot (`u64` ids, `u8` species, `f64` vectors) and one field
+    /// window of `f32` datasets on 2 x 3 x 2 bins.
+    fn write_file(path: &Path) {
+        let f = hdf5::File::create(path).unwrap();
+        let text: VarLenUnicode = CASE.parse().unwrap();
+        f.new_attr::<VarLenUnicode>()
+            .create("case")
+            .unwrap()
+            .write_scalar(&text)
+            .unwrap();
+        let g = f.create_group("snapshots/0000000100").unwrap();
+        g.new_attr::<f64>()
+            .create("rotations")
+            .unwrap()
+            .write_scalar(&0.5)
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&[3u64, 4])
+            .create("id")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&[0u8, 1])
+            .create("species")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&[0.002f64, 0.003])
+            .create("diameter")
+            .unwrap();
+        for name in ["position", "velocity", "angular_velocity"] {
+            g.new_dataset_builder()
+                .with_data(&ndarray::Array2::<f64>::zeros((2, 3)))
+                .create(name)
+                .unwrap();
+        }
+        let fl = f.create_group("fields").unwrap();
+        for (name, v) in [
+            ("x", vec![-0.0075, 0.0075]),
+            ("y", vec![-0.01, 0.0, 0.01]),
+            ("z", vec![-0.01, 0.01]),
+            ("rotations_end", vec![1.0]),
+        ] {
+            fl.new_dataset_builder().with_data(&v).create(name).unwrap();
+        }
+        for (name, parts) in [("number_density", 2), ("velocity", 3)] {
+            fl.new_dataset_builder()
+                .with_data(&ndarray::Array5::<f32>::zeros((1, parts, 2, 3, 2)))
+                .create(name)
+                .unwrap();
+        }
+    }
+
+    #[test]
+    fn number_types_come_from_the_datasets_and_times_merge() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("run.h5");
+        write_file(&path);
+        let layout = describe(&hdf5::File::open(&path).unwrap()).unwrap();
+        assert_eq!(
+            time_steps(&layout),
+            [(0.5, Some(0), None), (1.0, Some(0), Some(0))]
+        );
+        let text = render("run.h5", &layout);
+        for want in [
+            "NumberType=\"UInt\" Precision=\"8\" Format=\"HDF\">run.h5:/snapshots/0000000100/id<",
+            "NumberType=\"UChar\" Precision=\"1\" Format=\"HDF\">run.h5:/snapshots/0000000100/species<",
+            "Dimensions=\"2 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">run.h5:/snapshots/0000000100/position<",
+            // window 0, species 1 of an f32 dataset
+            "Dimensions=\"2 3 2\" NumberType=\"Float\" Precision=\"4\" Format=\"HDF\">run.h5:/fields/number_density|0 1 0 0 0:1 1 1 1 1:1 1 2 3 2:1 2 2 3 2<",
+            "<Attribute Name=\"number_density_large\"",
+            "<Attribute Name=\"w\"",
+            "<Topology TopologyType=\"3DSMesh\" Dimensions=\"3 4 3\"/>",
+        ] {
+            assert!(text.contains(want), "{want} not in:\n{text}");
+        }
+        // the particles of the second time step, and the drum, are included, not repeated
+        assert_eq!(text.matches("<Grid Name=\"particles\"").count(), 1);
+        assert_eq!(text.matches("<Grid Name=\"drum\"").count(), 1);
+        assert!(text.contains("xpointer(//Grid[@Name='time 0']/Grid[@Name='particles'])"));
+        assert!(text.contains("xpointer(//Grid[@Name='time 0']/Grid[@Name='drum'])"));
+        // bin corners: x and z from the drum (R = 0.015, L = 0.04), 3 x 4 x 3 points
+        assert!(text.contains("\n       -0.015 -0.015 -0.02\n"));
+        assert!(text.contains("\n       0.015 0.015 0.02\n"));
+    }
+
+    #[test]
+    fn drum_meshes_lie_on_the_wall() {
+        let m = drum_mesh(Shape::Sphere, 2.0, 2.0, false);
+        assert_eq!(m.points.len(), 2 + (SPHERE_RINGS - 1) * DRUM_SEGMENTS);
+        assert_eq!(m.triangles.len(), 2 * DRUM_SEGMENTS * (SPHERE_RINGS - 1));
+        for p in &m.points {
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            assert!((r - 1.0).abs() < 1e-15, "{p:?}");
+        }
+        let open = drum_mesh(Shape::Cylinder, 2.0, 4.0, true);
+        assert_eq!(open.points.len(), 2 * DRUM_SEGMENTS);
+        assert_eq!(open.triangles.len(), 2 * DRUM_SEGMENTS);
+        assert!(open.points.iter().all(|p| p[2].abs() == 2.0));
+        let capped = drum_mesh(Shape::Cylinder, 2.0, 4.0, false);
+        assert_eq!(capped.triangles.len(), 4 * DRUM_SEGMENTS);
+        // every triangle uses three different points
+        for t in capped.triangles.iter().chain(&m.triangles) {
+            assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "{t:?}");
+        }
+    }
+}
