@@ -1,6 +1,8 @@
 //! Reading a run's HDF5 file back (docs/diagnostics.md, "Commands"): `tumbler info` lists
 //! what a file holds, `tumbler bands` tabulates the band count over time, `tumbler export`
-//! writes a run's particles as a LAMMPS data file, and [`RunReader`] is the reading layer
+//! writes a run's particles as a LAMMPS data file, `tumbler import` reads a LAMMPS data file
+//! or dump into the `/particles` layout, `tumbler export --vtu` writes snapshots as VTK files,
+//! and [`RunReader`] is the reading layer
 //! the plots (`crate::plot`) share.
 //!
 //! Every refusal is an [`InspectError`] that names the file, the dataset or the argument at
@@ -8,15 +10,19 @@
 
 mod bands;
 mod export;
+mod import;
 mod info;
 mod number;
 mod reader;
+mod vtu;
 
 pub use bands::{band_table, effective_rule, BandTable, BandsOptions};
 pub use export::{export_lammps, Exported, BOX_PAD};
+pub use import::{import_lammps, ImportOptions, Imported, LammpsKind};
 pub use info::{info, InfoOptions, CASE_LINES};
 pub use number::{short as short_number, tick as tick_label};
 pub use reader::{attr_display, attr_number, attr_string, format_shape, RunReader, Window};
+pub use vtu::{export_vtu, VtuExported};
 
 /// Exit code of `info`, `bands` and `plot` for every refusal (as for a refused case).
 pub const EXIT_BAD_INPUT: u8 = 2;

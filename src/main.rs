@@ -8,8 +8,8 @@ use std::sync::Arc;
 use tumbler::case::{load_case, CaseError};
 use tumbler::comm::{Comm, MpiComm};
 use tumbler::inspect::{
-    band_table, export_lammps, info, BandsOptions, InfoOptions, InspectError, RunReader,
-    EXIT_BAD_INPUT,
+    band_table, export_lammps, export_vtu, import_lammps, info, BandsOptions, ImportOptions,
+    InfoOptions, InspectError, LammpsKind, RunReader, EXIT_BAD_INPUT,
 };
 use tumbler::run::{run, RunEnd, RunOptions, EXIT_STOPPED};
 
@@ -80,17 +80,56 @@ enum Command {
         #[arg(long, value_name = "N")]
         min_slices: Option<usize>,
     },
-    /// Write a run's particles as a LAMMPS data file (`atom_style sphere`, with velocities).
+    /// Write a run's particles as a LAMMPS data file (`atom_style sphere`, with velocities),
+    /// or its snapshots as VTK `.vtu` files with a `.pvd` series.
     Export {
         /// The run's HDF5 file.
         file: PathBuf,
         /// The LAMMPS data file to write (`id type diameter density x y z`; id = tumbler id
         /// + 1, type = species + 1; box around the drum).
-        #[arg(long, value_name = "OUT.data")]
-        lammps: PathBuf,
-        /// The group to export: `particles` (the final state) or `snapshots/NNNNNNNNNN`.
-        #[arg(long, value_name = "GROUP", default_value = "particles")]
-        group: String,
+        #[arg(
+            long,
+            value_name = "OUT.data",
+            required_unless_present = "vtu",
+            conflicts_with = "vtu"
+        )]
+        lammps: Option<PathBuf>,
+        /// The folder for `STEM_NNNNNNNNNN.vtu` (one per snapshot), `STEM_drum.vtu` and
+        /// `STEM.pvd` (docs/interop.md).
+        #[arg(long, value_name = "DIR")]
+        vtu: Option<PathBuf>,
+        /// The group to export: `particles` (the final state) or `snapshots/NNNNNNNNNN`
+        /// (default: `particles` for --lammps, every snapshot for --vtu).
+        #[arg(long, value_name = "GROUP")]
+        group: Option<String>,
+    },
+    /// Read a LAMMPS/LIGGGHTS data file or text dump into an HDF5 `/particles` file that
+    /// `init.file` starts a run from (docs/interop.md).
+    Import {
+        /// `data` (a data file, atom_style sphere) or `dump` (a text dump).
+        #[arg(long, value_enum, value_name = "data|dump")]
+        lammps: LammpsArg,
+        /// The LAMMPS/LIGGGHTS file.
+        file: PathBuf,
+        /// The HDF5 file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Dump: the timestep to take (default the last).
+        #[arg(long, value_name = "STEP")]
+        timestep: Option<u64>,
+        /// Atom type to species index, e.g. `1=0,2=1` (default: species = type - 1).
+        #[arg(long, value_name = "TYPE=S,...")]
+        species: Option<String>,
+        /// The LAMMPS axes (signed) that become tumbler's x, y, z (axis z, gravity -y), e.g.
+        /// `y,z,x` for a drum along LAMMPS x with gravity along -z (default `x,y,z`).
+        #[arg(long, value_name = "A,B,C", allow_hyphen_values = true)]
+        axes: Option<String>,
+        /// Added to the positions after --axes (tumbler's origin: on the axis, mid-length).
+        #[arg(long, value_name = "DX,DY,DZ", allow_hyphen_values = true)]
+        offset: Option<String>,
+        /// Replace the output if it exists.
+        #[arg(long)]
+        overwrite: bool,
     },
     /// Run reduced versions of the seed studies and check their results (under
     /// `mpirun -np N`; docs/validation.md). Exit code 4 if a check fails.
@@ -119,6 +158,15 @@ enum Command {
         #[command(subcommand)]
         what: PlotCommand,
     },
+}
+
+/// The formats `tumbler import --lammps` reads.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum LammpsArg {
+    /// A data file (atom_style sphere).
+    Data,
+    /// A text dump (LAMMPS `dump custom`, LIGGGHTS).
+    Dump,
 }
 
 /// The tiers of `tumbler validate`.
@@ -372,11 +420,39 @@ fn main() -> ExitCode {
         Command::Export {
             file,
             lammps,
+            vtu,
             group,
+        } => report(RunReader::open(&file).and_then(|r| match (&lammps, &vtu) {
+            (Some(out), _) => export_lammps(&r, out, group.as_deref()).map(|e| e.to_string()),
+            (None, Some(dir)) => export_vtu(&r, dir, group.as_deref()).map(|e| e.to_string()),
+            (None, None) => Err(InspectError::Invalid(
+                "export: give --lammps OUT.data or --vtu DIR".into(),
+            )),
+        })),
+        Command::Import {
+            lammps,
+            file,
+            output,
+            timestep,
+            species,
+            axes,
+            offset,
+            overwrite,
         } => report(
-            RunReader::open(&file)
-                .and_then(|r| export_lammps(&r, &lammps, Some(&group)))
-                .map(|e| e.to_string()),
+            import_lammps(&ImportOptions {
+                input: file,
+                kind: match lammps {
+                    LammpsArg::Data => LammpsKind::Data,
+                    LammpsArg::Dump => LammpsKind::Dump,
+                },
+                output,
+                timestep,
+                species,
+                axes,
+                offset,
+                overwrite,
+            })
+            .map(|i| i.to_string()),
         ),
         Command::Validate {
             tier,

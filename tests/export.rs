@@ -324,3 +324,123 @@ fn missing_file_or_group_is_refused_with_exit_code_2() {
         "nothing is written when the export is refused"
     );
 }
+
+/// The `<DataArray>`s of a `.vtu` file by name, as numbers, and its piece's point and cell
+/// counts.
+fn read_vtu(path: &Path) -> (usize, usize, std::collections::BTreeMap<String, Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("the .vtu file is well-formed XML");
+    let piece = doc.descendants().find(|n| n.has_tag_name("Piece")).unwrap();
+    let count = |a: &str| piece.attribute(a).unwrap().parse().unwrap();
+    let arrays = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("DataArray"))
+        .map(|n| {
+            let values = n
+                .text()
+                .unwrap_or("")
+                .split_whitespace()
+                .map(|w| w.parse().unwrap())
+                .collect();
+            (n.attribute("Name").unwrap().to_string(), values)
+        })
+        .collect();
+    (count("NumberOfPoints"), count("NumberOfCells"), arrays)
+}
+
+#[test]
+fn snapshots_become_vtu_files_with_a_pvd_series() {
+    let dir = tmpdir();
+    let run = dir.path().join("run.h5");
+    write_run(&run, CASE);
+    let out = dir.path().join("vtk");
+    let o = tumbler(&[
+        "export",
+        run.to_str().unwrap(),
+        "--vtu",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(said.contains("1 time steps, 2 particles"), "{said}");
+
+    // the series: the snapshot and the drum, at 0.05 rotations
+    let pvd = std::fs::read_to_string(out.join("run.pvd")).unwrap();
+    let doc = roxmltree::Document::parse(&pvd).unwrap();
+    let sets: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("DataSet"))
+        .map(|n| {
+            (
+                n.attribute("timestep").unwrap().to_string(),
+                n.attribute("part").unwrap().to_string(),
+                n.attribute("file").unwrap().to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        sets,
+        [
+            ("0.05".into(), "0".into(), "run_0000000100.vtu".into()),
+            ("0.05".into(), "1".into(), "run_drum.vtu".into()),
+        ]
+    );
+
+    // the snapshot's particles, every bit, as vertex cells
+    let (points, cells, a) = read_vtu(&out.join("run_0000000100.vtu"));
+    assert_eq!((points, cells), (2, 2));
+    let mut g = final_state();
+    g.position[1][2] = -0.0015;
+    let flat = |v: &[[f64; 3]]| -> Vec<f64> { v[..2].iter().flatten().copied().collect() };
+    assert_eq!(a["position"], flat(&g.position));
+    assert_eq!(a["velocity"], flat(&g.velocity));
+    assert_eq!(a["angular_velocity"], flat(&g.angular_velocity));
+    assert_eq!(a["diameter"], g.diameter[..2]);
+    assert_eq!(a["id"], [0.0, 1.0]);
+    assert_eq!(a["species"], [0.0, 1.0]);
+    assert_eq!(a["connectivity"], [0.0, 1.0]);
+    assert_eq!(a["offsets"], [1.0, 2.0]);
+    assert_eq!(a["types"], [1.0, 1.0], "VTK_VERTEX");
+
+    // the drum: a capped cylinder, D = 0.03, L = 0.04
+    let (points, cells, a) = read_vtu(&out.join("run_drum.vtu"));
+    assert_eq!((points, cells), (98, 192));
+    let p = &a["position"];
+    let r = |k: usize| (p[3 * k].powi(2) + p[3 * k + 1].powi(2)).sqrt();
+    assert!((0..96).all(|k| (r(k) - 0.015).abs() < 1e-15 && p[3 * k + 2].abs() == 0.02));
+
+    // the final state on request; a file without snapshots is refused
+    let o = tumbler(&[
+        "export",
+        run.to_str().unwrap(),
+        "--vtu",
+        out.to_str().unwrap(),
+        "--group",
+        "particles",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read_vtu(&out.join("run_particles.vtu")).0, 3);
+    let bare = dir.path().join("bare.h5");
+    {
+        let f = hdf5::File::create(&bare).unwrap();
+        f.new_attr::<VarLenUnicode>()
+            .create("case")
+            .unwrap()
+            .write_scalar(&VarLenUnicode::from_str(CASE).unwrap())
+            .unwrap();
+    }
+    let o = tumbler(&[
+        "export",
+        bare.to_str().unwrap(),
+        "--vtu",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("/snapshots") && err.contains("snapshots.every"),
+        "{err}"
+    );
+    let o = tumbler(&["export", run.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "neither --lammps nor --vtu");
+}

@@ -15,7 +15,6 @@ use super::reader::attr_number;
 use super::{InspectError, RunReader};
 use crate::case::{Case, Family, Shape};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 /// Padding of the box beyond the walls, as a fraction of the drum diameter (each side).
@@ -50,18 +49,18 @@ impl std::fmt::Display for Exported {
     }
 }
 
-/// The particles of one group, as read.
-struct Particles {
-    id: Vec<u64>,
-    species: Vec<u64>,
-    diameter: Vec<f64>,
-    position: Vec<f64>,
-    velocity: Vec<f64>,
-    angular_velocity: Vec<f64>,
+/// The particles of one group, as read (vectors flattened, three per particle).
+pub(super) struct Particles {
+    pub(super) id: Vec<u64>,
+    pub(super) species: Vec<u64>,
+    pub(super) diameter: Vec<f64>,
+    pub(super) position: Vec<f64>,
+    pub(super) velocity: Vec<f64>,
+    pub(super) angular_velocity: Vec<f64>,
 }
 
 /// `particles` (default) or `snapshots/NNNNNNNNNN`, without slashes at the ends.
-fn group_name(group: Option<&str>) -> String {
+pub(super) fn group_name(group: Option<&str>) -> String {
     group
         .map(|g| g.trim().trim_matches('/').to_string())
         .filter(|g| !g.is_empty())
@@ -94,7 +93,8 @@ fn missing_group(reader: &RunReader, group: &str) -> InspectError {
     reader.missing(group, &hint)
 }
 
-fn read_group(reader: &RunReader, group: &str) -> Result<Particles, InspectError> {
+/// The particles of `group`, or a refusal naming what the file holds.
+pub(super) fn read_group(reader: &RunReader, group: &str) -> Result<Particles, InspectError> {
     if !reader.has(group) || reader.file().group(group).is_err() {
         return Err(missing_group(reader, group));
     }
@@ -249,9 +249,7 @@ pub fn export_lammps(
         path: out.display().to_string(),
         reason: e.to_string(),
     };
-    let mut f = std::fs::File::create(out).map_err(write_err)?;
-    f.write_all(text.as_bytes()).map_err(write_err)?;
-    f.flush().map_err(write_err)?;
+    write_atomically(out, text.as_bytes()).map_err(write_err)?;
     Ok(Exported {
         path: out.to_path_buf(),
         group: format!("/{group}"),
@@ -259,4 +257,20 @@ pub fn export_lammps(
         types,
         boundary,
     })
+}
+
+/// Write `bytes` to `path` through a temporary file beside it, renamed when complete (a
+/// failed write leaves no partial file).
+pub(super) fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    let written = std::fs::File::create(&tmp)
+        .and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
+        .and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

@@ -175,13 +175,7 @@ impl RunDiagnostics {
         let (s, f, p) = self.records_at(step);
         diag_file::truncate(file.file(), s, f, p, step)?;
         self.snapshots = diag_file::snapshots(file.file())?;
-        if !self.snapshots.is_empty() {
-            xdmf::write(&self.output, &self.snapshots).map_err(|e| {
-                hdf5::Error::from(
-                    format!("writing {}: {e}", xdmf::xdmf_path(&self.output).display()).as_str(),
-                )
-            })?;
-        }
+        xdmf::write(&self.output, file.file()).map_err(|e| hdf5::Error::from(e.as_str()))?;
         Ok(())
     }
 
@@ -234,10 +228,7 @@ impl RunDiagnostics {
             if comm.rank() == 0 {
                 self.snapshots
                     .push((diag_file::snapshot_name(step), rotations, n as usize));
-                if let Err(e) = xdmf::write(&self.output, &self.snapshots) {
-                    log::error!("writing {}: {e}", xdmf::xdmf_path(&self.output).display());
-                    ok = false;
-                }
+                ok &= file.as_ref().is_none_or(|f| self.write_xdmf(f));
             }
             any = true;
         }
@@ -299,7 +290,20 @@ impl RunDiagnostics {
                 )
             })
         };
-        written.is_none_or(|(r, what)| logged(r, what))
+        let ok = written.is_none_or(|(r, what)| logged(r, what));
+        // the new field window in the XDMF file
+        ok && !(fields && file.is_some_and(|f| !self.write_xdmf(f)))
+    }
+
+    /// Rewrite the XDMF file from what the output holds now (rank 0); whether that went well.
+    fn write_xdmf(&self, file: &RunFile) -> bool {
+        match xdmf::write(&self.output, file.file()) {
+            Ok(_) => true,
+            Err(e) => {
+                log::error!("{e}");
+                false
+            }
+        }
     }
 
     /// The state a checkpoint keeps (all ranks call this; meaningful on rank 0).
