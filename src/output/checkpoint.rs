@@ -298,7 +298,12 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
         }
     });
     if let Err(e) = written {
+        let mut e = e;
         if root {
+            // a write through MPI-IO loses the system's reason: say it if the disk is full
+            if let Some(full) = no_room(&tmp) {
+                e = format!("{e} ({full})");
+            }
             let _ = std::fs::remove_file(&tmp);
         }
         return Err(format!("{e}; the previous checkpoint, if any, is kept"));
@@ -307,6 +312,24 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
         let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
     }
     Ok(())
+}
+
+/// Bytes a failed checkpoint's directory is probed for ([`no_room`]).
+const PROBE_BYTES: usize = 1 << 20;
+
+/// Whether the disk holding `tmp` is full, tested (before `tmp` is removed) by writing
+/// [`PROBE_BYTES`] beside it: the system's refusal (`No space left on device`), or `None`
+/// if there is room.
+fn no_room(tmp: &Path) -> Option<String> {
+    use std::io::Write;
+    let probe = tmp.with_extension("space-probe");
+    let r = std::fs::File::create(&probe).and_then(|mut f| {
+        f.write_all(&vec![0u8; PROBE_BYTES])?;
+        f.sync_all()
+    });
+    let _ = std::fs::remove_file(&probe);
+    r.err()
+        .map(|e| format!("the disk has less than {} MB free: {e}", PROBE_BYTES >> 20))
 }
 
 /// Every rank's rows of the particles and contacts, into a new `tmp` (collective).
