@@ -450,32 +450,64 @@ fn windows_paths_and_their_times_follow_the_schedule() {
     let (omega, dt) = (case.drum.omega, case.dt());
     let g = &case.diagnostics;
     let total = steps_for(0.047, omega, dt);
-    let sample = steps_for(g.sample_every, omega, dt);
-    let window = sample * (g.window / g.sample_every).round() as u64;
-    let fields = sample * (g.fields.window / g.sample_every).round() as u64;
+    // a window is a whole number of samples, and window k ends on the step nearest k
+    // windows of rotations: sample j is due at j / per windows
+    let per = (g.window / g.sample_every).round() as u64;
+    let per_fields = (g.fields.window / g.sample_every).round() as u64;
+    let due = |j: u64| (j / per) as f64 * g.window + (j % per) as f64 * (g.window / per as f64);
+    let sample_step = |j: u64| steps_for(due(j), omega, dt);
+    let taken = (1..).take_while(|&j| sample_step(j) <= total).count() as u64;
     let paths = steps_for(g.paths.every.unwrap(), omega, dt);
     let rot = |s: u64| s as f64 * dt * omega.abs() / (2.0 * std::f64::consts::PI);
+    let step_rot = rot(1);
     let f = hdf5::File::open(&out).unwrap();
     let read = |n: &str| -> Vec<f64> { f.dataset(n).unwrap().read_raw().unwrap() };
     let count = |n: &str| -> Vec<u64> { f.dataset(n).unwrap().read_raw().unwrap() };
-    // full windows, then the partial last one
+    let attr = |g: &str| -> u64 {
+        f.group(g)
+            .unwrap()
+            .attr("samples_per_window")
+            .unwrap()
+            .read_scalar()
+            .unwrap()
+    };
+    assert_eq!(attr("slices"), per);
+    assert_eq!(attr("fields"), per_fields);
+    // whole windows, then the partial last one
     let mut starts = Vec::new();
     let mut ends = Vec::new();
     let mut samples = Vec::new();
-    let mut s = 0;
-    while s < total {
-        let e = (s + window).min(total);
-        starts.push(rot(s));
-        ends.push(rot(e));
-        samples.push(e / sample - s / sample);
-        s = e;
+    let mut j = 0;
+    while j < taken {
+        let e = (j + per).min(taken);
+        starts.push(rot(sample_step(j)));
+        ends.push(rot(if e == taken { total } else { sample_step(e) }));
+        samples.push(e - j);
+        j = e;
     }
+    assert!(samples.len() >= 3, "{samples:?}");
     assert_eq!(read("slices/rotations_start"), starts);
     assert_eq!(read("slices/rotations_end"), ends);
     assert_eq!(count("slices/samples"), samples);
+    // every whole window is the window's rotations to within a step, and ends within half
+    // a step of a whole number of windows: no drift
+    for (k, (a, b)) in starts.iter().zip(&ends).enumerate().take(samples.len() - 1) {
+        assert_eq!(samples[k], per);
+        assert!((b - a - g.window).abs() <= step_rot * 1.0001, "{a} {b}");
+        let whole = (k + 1) as f64 * g.window;
+        assert!(
+            (b - whole).abs() <= 0.5001 * step_rot,
+            "window {k} ends at {b}"
+        );
+    }
+    assert!(
+        *samples.last().unwrap() < per,
+        "the last window is partial here"
+    );
+    let fields = sample_step(per_fields);
     assert!(fields > total);
     assert_eq!(read("fields/rotations_end"), vec![rot(total)]);
-    assert_eq!(count("fields/samples"), vec![total / sample]);
+    assert_eq!(count("fields/samples"), vec![taken]);
     // the last window ends at the last axial sample, the same number
     assert_eq!(read("axial/rotations").last(), ends.last());
     // paths from step 0

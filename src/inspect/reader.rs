@@ -235,8 +235,8 @@ impl RunReader {
         }
     }
 
-    /// Window `requested` (default the last) of `group` (`slices` or `fields`), from its
-    /// `rotations_start` and `rotations_end`.
+    /// Window `requested` of `group` (`slices` or `fields`), from its `rotations_start` and
+    /// `rotations_end`; by default the last whole window ([`RunReader::last_whole`]).
     pub fn window(&self, group: &str, requested: Option<usize>) -> Result<Window, InspectError> {
         let starts = self.vector(&format!("{group}/rotations_start"))?;
         let ends = self.vector(&format!("{group}/rotations_end"))?;
@@ -247,7 +247,7 @@ impl RunReader {
                 self.shown()
             )));
         }
-        let index = requested.unwrap_or(count - 1);
+        let index = requested.unwrap_or_else(|| self.last_whole(group, count));
         if index >= count {
             return Err(InspectError::Invalid(format!(
                 "window {index} is out of range: /{group} of {} holds {count} window{} (0 to {})",
@@ -262,6 +262,31 @@ impl RunReader {
             start: starts[index],
             end: ends[index],
         })
+    }
+
+    /// The last of the `count` windows of `group` that holds the group's
+    /// `samples_per_window` samples: a run that stops inside a window writes that window
+    /// partial, with fewer. The last window if none is whole or the file does not say.
+    pub fn last_whole(&self, group: &str, count: usize) -> usize {
+        let per = self
+            .file
+            .group(group)
+            .ok()
+            .and_then(|g| g.attr("samples_per_window").ok())
+            .and_then(|a| a.read_scalar::<u64>().ok());
+        let samples: Option<Vec<u64>> = self
+            .file
+            .dataset(&format!("{group}/samples"))
+            .ok()
+            .and_then(|d| d.read_raw().ok());
+        match (per, samples) {
+            (Some(per), Some(samples)) => samples
+                .iter()
+                .take(count)
+                .rposition(|&n| n == per)
+                .unwrap_or(count - 1),
+            _ => count - 1,
+        }
     }
 
     /// The units of dataset `name` for an axis or colour-bar label, from its `units`

@@ -14,6 +14,10 @@
 //! the temporary file. A restart reads only its share of the rows ([`read_share`]). (The run
 //! draws no random numbers after the initial state, so there is no generator state to keep.)
 //!
+//! The window sums (fixed-point `i128`, stored as their high and low 64-bit halves) are
+//! mostly zeros, for bins no particle reached: they are stored shuffled and gzipped, which
+//! keeps every bit.
+//!
 //! Every dataset carries HDF5's Fletcher32 checksum (HDF5 verifies it on every read) and the
 //! file's metadata is written in the 1.10 format, whose object headers are checksummed too,
 //! so a damaged checkpoint is refused on restart instead of loading wrong numbers.
@@ -62,7 +66,15 @@ pub struct DiagState {
     pub angles: AngleSums,
     /// Ids of the particles followed.
     pub path_ids: Vec<u64>,
+    /// Whether the windows follow the whole-rotation schedule ([`WINDOW_SCHEDULE`]); a
+    /// checkpoint written before it (`false`) is refused by a restart.
+    pub whole_windows: bool,
 }
+
+/// Version of the window schedule, the `diagnostics` attribute `window_schedule`: 2 for
+/// windows of whole samples ending on whole multiples of their length
+/// (`run::diagnostics`); absent before.
+pub const WINDOW_SCHEDULE: u64 = 2;
 
 /// The sums of one window in progress.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -84,10 +96,10 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
         let (samples, angle_sum, sums) = (&s.samples, &s.angle_sum, &s.sums);
         // one half at a time, to keep the checkpoint's memory peak low
         let hi: Vec<i64> = sums.iter().map(|&x| (x >> 64) as i64).collect();
-        put(&g, &format!("{name}_hi"), &hi, 1)?;
+        put_compressed(&g, &format!("{name}_hi"), &hi)?;
         drop(hi);
         let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
-        put(&g, &format!("{name}_lo"), &lo, 1)?;
+        put_compressed(&g, &format!("{name}_lo"), &lo)?;
         g.new_attr::<u64>()
             .create(format!("{name}_samples").as_str())?
             .write_scalar(samples)?;
@@ -105,6 +117,9 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
         .create("angle_drum_n")?
         .write_scalar(&a.drum_n)?;
     put(&g, "path_ids", &d.path_ids, 1)?;
+    g.new_attr::<u64>()
+        .create("window_schedule")?
+        .write_scalar(&WINDOW_SCHEDULE)?;
     Ok(())
 }
 
@@ -137,6 +152,23 @@ fn put<T: H5Type>(g: &hdf5::Group, name: &str, data: &[T], cols: usize) -> hdf5:
         } else {
             b.create(name)?;
         }
+    }
+    Ok(())
+}
+
+/// Write the 1-D `data` as dataset `name` of `g`, chunked with the byte shuffle, gzip and a
+/// Fletcher32 checksum per chunk: the window sums, whose bins are mostly empty (zeros),
+/// shrink to a few per cent and read back bit for bit.
+fn put_compressed<T: H5Type>(g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<()> {
+    let b = g.new_dataset_builder().with_data(data);
+    if data.is_empty() {
+        b.create(name)?;
+    } else {
+        b.chunk(data.len().clamp(1, CHUNK_ROWS))
+            .fletcher32()
+            .shuffle()
+            .deflate(super::series::GZIP_LEVEL)
+            .create(name)?;
     }
     Ok(())
 }
@@ -215,6 +247,10 @@ fn read_diag(f: &hdf5::File, path: &Path, sums_too: bool) -> Result<DiagState, S
             drum_n: attr_u64("angle_drum_n")?,
         },
         path_ids: get(f, path, "diagnostics/path_ids")?,
+        whole_windows: g
+            .attr("window_schedule")
+            .and_then(|a| a.read_scalar::<u64>())
+            .is_ok_and(|v| v == WINDOW_SCHEDULE),
     })
 }
 
@@ -262,7 +298,12 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
         }
     });
     if let Err(e) = written {
+        let mut e = e;
         if root {
+            // a write through MPI-IO loses the system's reason: say it if the disk is full
+            if let Some(full) = no_room(&tmp) {
+                e = format!("{e} ({full})");
+            }
             let _ = std::fs::remove_file(&tmp);
         }
         return Err(format!("{e}; the previous checkpoint, if any, is kept"));
@@ -271,6 +312,24 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
         let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
     }
     Ok(())
+}
+
+/// Bytes a failed checkpoint's directory is probed for ([`no_room`]).
+const PROBE_BYTES: usize = 1 << 20;
+
+/// Whether the disk holding `tmp` is full, tested (before `tmp` is removed) by writing
+/// [`PROBE_BYTES`] beside it: the system's refusal (`No space left on device`), or `None`
+/// if there is room.
+fn no_room(tmp: &Path) -> Option<String> {
+    use std::io::Write;
+    let probe = tmp.with_extension("space-probe");
+    let r = std::fs::File::create(&probe).and_then(|mut f| {
+        f.write_all(&vec![0u8; PROBE_BYTES])?;
+        f.sync_all()
+    });
+    let _ = std::fs::remove_file(&probe);
+    r.err()
+        .map(|e| format!("the disk has less than {} MB free: {e}", PROBE_BYTES >> 20))
 }
 
 /// Every rank's rows of the particles and contacts, into a new `tmp` (collective).

@@ -6,7 +6,9 @@ use crate::diag::fields::FieldWindow;
 use crate::diag::{BandRule, SliceRecord};
 use crate::engine::sim::BalanceCheck;
 use crate::particles::ParticleState;
+use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group};
+use std::str::FromStr;
 
 /// Shapes of the diagnostics' datasets.
 #[derive(Debug, Clone)]
@@ -27,10 +29,32 @@ pub struct DiagLayout {
     pub bands: BandRule,
     /// Index of the species whose bands are counted.
     pub band_species: usize,
+    /// Samples in a whole per-slice window (a trailing partial window has fewer).
+    pub samples_per_window: u64,
+    /// Samples in a whole field window.
+    pub samples_per_field_window: u64,
+    /// The file's units of length and time.
+    pub units: series::Units,
 }
 
-const LEN: &str = "length (m for SI cases, small-particle diameters for reduced ones)";
+const LEN: &str = "length";
 const VEL: &str = "length/time";
+
+/// Write the names `values` as the 1-D string dataset `name` of `g` (`units` `-`).
+pub fn names(
+    g: &Group,
+    name: &str,
+    values: &[&str],
+    definition: &str,
+) -> hdf5::Result<hdf5::Dataset> {
+    let v = values
+        .iter()
+        .map(|s| VarLenUnicode::from_str(s).map_err(|e| hdf5::Error::from(e.to_string().as_str())))
+        .collect::<hdf5::Result<Vec<_>>>()?;
+    let ds = g.new_dataset_builder().with_data(&v).create(name)?;
+    series::describe(&ds, "-", definition)?;
+    Ok(ds)
+}
 
 fn group(file: &File, name: &str) -> hdf5::Result<Group> {
     if file.link_exists(name) {
@@ -84,7 +108,7 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
         LEN,
         "surface-normal bin centres of the cross-section (surface frame)",
     )?;
-    window_bounds(&s)?;
+    window_bounds(&s, l.samples_per_window)?;
     for (name, row, units, def) in [
         ("angle", vec![nz], "degrees", "dynamic angle of repose per slice, mean over the window's samples"),
         ("angle_drum", vec![], "degrees", "dynamic angle of repose of the whole drum, window mean"),
@@ -100,7 +124,7 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
         ("diffusivity", vec![ns, nz], "length^2/time", "K from <C_s>(<w_s> - <w>) = -K d<C_s>/dz (thesis appendix A); NaN where the gradient is zero"),
         ("split_x", vec![nz, ny], LEN, "streamwise position separating upstream (x < split_x) from downstream bins, per slice and depth row; NaN for empty rows"),
     ] {
-        series::create::<f64>(&s, name, &row, units, def)?;
+        series::create_mean(&s, name, &row, units, def)?;
     }
     series::create::<u8>(&s, "split_by_sign", &[nz, ny], "-",
         "1 where split_x is the sign change of the mixture's axial velocity along x nearest x = 0 (the thesis' rule), 0 where w keeps its sign and x = 0 is used")?;
@@ -124,7 +148,19 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
         "surface-normal bin centres (surface frame, out of the bed)",
     )?;
     series::fixed(&f, "z", &[nzf], &l.zf, LEN, "axial bin centres")?;
-    window_bounds(&f)?;
+    names(
+        &f,
+        "component",
+        &["u", "v", "w"],
+        "components of velocity and velocity_drum: streamwise, surface-normal, axial",
+    )?;
+    names(
+        &f,
+        "rms_component",
+        &["u_rms", "v_rms", "w_rms", "rms"],
+        "components of rms",
+    )?;
+    window_bounds(&f, l.samples_per_field_window)?;
     let grid = |lead: usize| vec![lead, nx, ny, nzf];
     for (name, row, units, def) in [
         ("angle", vec![], "degrees", "mean angle of the surface frame over the window"),
@@ -139,7 +175,11 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
         ("boundary", vec![nx, nzf], LEN, "lower edge of the flowing layer: y where the drum-frame streamwise velocity falls to 0.05 u0 below the surface; NaN where the column does not flow"),
         ("depth", vec![nx, nzf], LEN, "flowing-layer depth: surface - boundary"),
     ] {
-        series::create::<f64>(&f, name, &row, units, def)?;
+        if row.is_empty() {
+            series::create::<f64>(&f, name, &row, units, def)?;
+        } else {
+            series::create_mean(&f, name, &row, units, def)?;
+        }
     }
 
     if !l.path_ids.is_empty() {
@@ -168,6 +208,156 @@ pub fn create(file: &File, l: &DiagLayout) -> hdf5::Result<()> {
             VEL,
             "lab-frame velocity (axes: sample, particle, component)",
         )?;
+    }
+    Ok(())
+}
+
+/// Make the coordinates dimension scales and attach them to the axes they label (layout in
+/// `docs/diagnostics.md`): time (`/axial/rotations`, `/slices/rotations_end`,
+/// `/fields/rotations_end`, `/paths/rotations`), `/species`, the slice and bin centres, and
+/// the components of `/fields/velocity`, `velocity_drum` and `rms`.
+pub fn label_axes(file: &File) -> hdf5::Result<()> {
+    use super::dimscales::{label_group, make_scale};
+    let species = file.dataset("species")?;
+    make_scale(&species)?;
+    let scale = |g: &Group, name: &str| -> hdf5::Result<hdf5::Dataset> {
+        let ds = g.dataset(name)?;
+        make_scale(&ds)?;
+        Ok(ds)
+    };
+    let coords = [
+        "z",
+        "x",
+        "y",
+        "rotations",
+        "rotations_end",
+        "id",
+        "component",
+        "rms_component",
+    ];
+    let series = |name: &str| !coords.contains(&name);
+
+    let axial = file.group("axial")?;
+    let (t, z) = (scale(&axial, "rotations")?, scale(&axial, "z")?);
+    label_group(&axial, &t, |n, _| if series(n) { vec![0] } else { vec![] })?;
+    label_group(&axial, &z, |n, sh| {
+        if series(n) && sh.len() == 3 {
+            vec![2]
+        } else {
+            vec![]
+        }
+    })?;
+    label_group(&axial, &species, |n, sh| {
+        if series(n) && sh.len() == 3 {
+            vec![1]
+        } else {
+            vec![]
+        }
+    })?;
+
+    let s = file.group("slices")?;
+    let (t, z, y) = (
+        scale(&s, "rotations_end")?,
+        scale(&s, "z")?,
+        scale(&s, "y")?,
+    );
+    scale(&s, "x")?;
+    let by_species = |n: &str| {
+        [
+            "concentration",
+            "mean_axial_velocity",
+            "q_up",
+            "q_down",
+            "relative_flux",
+            "gradient",
+            "diffusivity",
+        ]
+        .contains(&n)
+    };
+    label_group(&s, &t, |n, _| if series(n) { vec![0] } else { vec![] })?;
+    label_group(&s, &z, |n, sh| match n {
+        "split_x"
+        | "split_by_sign"
+        | "angle"
+        | "mixture_axial_velocity"
+        | "q_up_mixture"
+        | "q_down_mixture" => vec![1],
+        _ if by_species(n) && sh.len() == 3 => vec![2],
+        _ => vec![],
+    })?;
+    label_group(&s, &y, |n, _| {
+        if n == "split_x" || n == "split_by_sign" {
+            vec![2]
+        } else {
+            vec![]
+        }
+    })?;
+    label_group(
+        &s,
+        &species,
+        |n, _| if by_species(n) { vec![1] } else { vec![] },
+    )?;
+
+    let f = file.group("fields")?;
+    let (t, x, y, z) = (
+        scale(&f, "rotations_end")?,
+        scale(&f, "x")?,
+        scale(&f, "y")?,
+        scale(&f, "z")?,
+    );
+    let (comp, rms) = (scale(&f, "component")?, scale(&f, "rms_component")?);
+    label_group(&f, &t, |n, _| if series(n) { vec![0] } else { vec![] })?;
+    let grid = |sh: &[usize]| -> Vec<usize> {
+        match sh.len() {
+            5 => vec![2, 3, 4],
+            3 => vec![1, 2],
+            _ => vec![],
+        }
+    };
+    label_group(&f, &x, |n, sh| match (series(n), sh.len()) {
+        (true, 5) => vec![2],
+        (true, 3) => vec![1],
+        _ => vec![],
+    })?;
+    label_group(&f, &y, |n, sh| {
+        if series(n) && sh.len() == 5 {
+            vec![3]
+        } else {
+            vec![]
+        }
+    })?;
+    label_group(&f, &z, |n, sh| match (series(n), grid(sh).as_slice()) {
+        (true, [_, _, z]) => vec![*z],
+        (true, [_, z]) => vec![*z],
+        _ => vec![],
+    })?;
+    label_group(&f, &species, |n, _| {
+        if ["number_density", "volume_fraction", "axial_flux"].contains(&n) {
+            vec![1]
+        } else {
+            vec![]
+        }
+    })?;
+    label_group(&f, &comp, |n, _| {
+        if n == "velocity" || n == "velocity_drum" {
+            vec![1]
+        } else {
+            vec![]
+        }
+    })?;
+    label_group(&f, &rms, |n, _| if n == "rms" { vec![1] } else { vec![] })?;
+
+    if file.link_exists("paths") {
+        let p = file.group("paths")?;
+        let (t, id) = (scale(&p, "rotations")?, scale(&p, "id")?);
+        label_group(&p, &t, |n, _| if series(n) { vec![0] } else { vec![] })?;
+        label_group(&p, &id, |n, _| {
+            if series(n) && n != "rotations" {
+                vec![1]
+            } else {
+                vec![]
+            }
+        })?;
     }
     Ok(())
 }
@@ -242,6 +432,13 @@ pub fn prepare_balance(file: &File, ranks: usize, keep_until: Option<f64>) -> hd
         LEN,
         "slab boundaries after the check, from -L/2 to L/2",
     )?;
+    let t = g.dataset("rotations")?;
+    super::dimscales::make_scale(&t)?;
+    super::dimscales::label_group(
+        &g,
+        &t,
+        |n, _| if n == "rotations" { vec![] } else { vec![0] },
+    )?;
     Ok(())
 }
 
@@ -285,7 +482,15 @@ pub fn append_balance(
     file.flush()
 }
 
-fn window_bounds(g: &Group) -> hdf5::Result<()> {
+/// The window times and sample counts of `g`, with the group attribute
+/// `samples_per_window`: a window with fewer samples is the run's trailing partial one.
+fn window_bounds(g: &Group, per_window: u64) -> hdf5::Result<()> {
+    if g.attr_names()?.iter().any(|n| n == "samples_per_window") {
+        g.delete_attr("samples_per_window")?;
+    }
+    g.new_attr::<u64>()
+        .create("samples_per_window")?
+        .write_scalar(&per_window)?;
     series::create::<f64>(
         g,
         "rotations_start",
@@ -294,12 +499,23 @@ fn window_bounds(g: &Group) -> hdf5::Result<()> {
         "start of each window",
     )?;
     series::create::<f64>(g, "rotations_end", &[], "rotations", "end of each window")?;
-    series::create::<u64>(g, "samples", &[], "-", "samples averaged in each window")?;
+    series::create::<u64>(
+        g,
+        "samples",
+        &[],
+        "-",
+        "samples averaged in each window (the group's samples_per_window for a whole one)",
+    )?;
     Ok(())
 }
 
 fn put<T: hdf5::H5Type>(file: &File, name: &str, record: &[T]) -> hdf5::Result<()> {
     series::append(&file.dataset(name)?, record)
+}
+
+/// Append a record of means to a `float32` series.
+fn put_mean(file: &File, name: &str, record: &[f64]) -> hdf5::Result<()> {
+    series::append_mean(&file.dataset(name)?, record)
 }
 
 /// Append the per-sample additions to `/axial`.
@@ -314,8 +530,8 @@ pub fn append_slices(file: &File, start: f64, end: f64, r: &SliceRecord) -> hdf5
     put(file, "slices/rotations_start", &[start])?;
     put(file, "slices/rotations_end", &[end])?;
     put(file, "slices/samples", &[s.samples])?;
-    put(file, "slices/angle", &r.angle)?;
-    put(file, "slices/angle_drum", &[r.angle_drum])?;
+    put_mean(file, "slices/angle", &r.angle)?;
+    put_mean(file, "slices/angle_drum", &[r.angle_drum])?;
     for (name, v) in [
         ("concentration", &s.concentration),
         ("mean_axial_velocity", &s.mean_axial_velocity),
@@ -329,7 +545,7 @@ pub fn append_slices(file: &File, start: f64, end: f64, r: &SliceRecord) -> hdf5
         ("diffusivity", &s.diffusivity),
         ("split_x", &s.split_x),
     ] {
-        put(file, &format!("slices/{name}"), v)?;
+        put_mean(file, &format!("slices/{name}"), v)?;
     }
     put(file, "slices/split_by_sign", &s.split_by_sign)?;
     file.flush()
@@ -353,7 +569,7 @@ pub fn append_fields(file: &File, start: f64, end: f64, w: &FieldWindow) -> hdf5
         ("boundary", &w.boundary),
         ("depth", &w.depth),
     ] {
-        put(file, &format!("fields/{name}"), v)?;
+        put_mean(file, &format!("fields/{name}"), v)?;
     }
     file.flush()
 }

@@ -9,7 +9,10 @@
 //!   `pour_poured`, `pour_cut_height`, `pour_measured_fill`;
 //! - `/particles/{id, species, diameter, position, velocity, angular_velocity}`, the final
 //!   state sorted by id;
-//! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`.
+//! - root attributes `case` (effective case text), `version`, `git_hash`, `ranks`,
+//!   `length_unit` and `time_unit` (what every `units` attribute is written in);
+//! - `/species`, the species names (a string array, the dimension scale of every species
+//!   axis; coordinates are attached to the axes they label, `output::dimscales`).
 //!
 //! The file is written under `NAME.partial` and renamed to `NAME` once complete, so a file
 //! with the final name is always whole. It is flushed after every record and, before every
@@ -82,6 +85,8 @@ impl RunFile {
         file.new_attr::<u64>()
             .create("ranks")?
             .write_scalar(&(meta.ranks as u64))?;
+        // every dataset's `units` is written in these (series::describe)
+        layout.units.write(&file)?;
         let names = meta.species.join(",");
         let axial = file.create_group("axial")?;
         str_attr(&axial, "species", &names)?;
@@ -91,29 +96,24 @@ impl RunFile {
             .with_data(&Array1::from(z.to_vec()))
             .create("z")?;
         describe(&zs, LENGTH, "axial slice centres")?;
-        let rotations = axial
-            .new_dataset::<f64>()
-            .chunk(64)
-            .shape(0..)
-            .create("rotations")?;
-        let volume_fraction = axial
-            .new_dataset::<f64>()
-            .chunk((1, ns, nz))
-            .shape((0.., ns, nz))
-            .create("volume_fraction")?;
-        let count = axial
-            .new_dataset::<u64>()
-            .chunk((1, ns, nz))
-            .shape((0.., ns, nz))
-            .create("count")?;
-        describe(
-            &rotations,
+        let rotations = series::create::<f64>(
+            &axial,
+            "rotations",
+            &[],
             "rotations",
             "time of each axial sample, in drum rotations since time zero",
         )?;
-        describe(&volume_fraction, "-", "share of the particle volume in the slice held by each species, <C_s>(z) (axes: sample, species, slice); NaN where the slice is empty")?;
-        describe(&count, "-", "particles of each species whose centre lies in the slice (axes: sample, species, slice)")?;
+        let volume_fraction = series::create::<f64>(&axial, "volume_fraction", &[ns, nz], "-", "share of the particle volume in the slice held by each species, <C_s>(z) (axes: sample, species, slice); NaN where the slice is empty")?;
+        let count = series::create::<u64>(&axial, "count", &[ns, nz], "-", "particles of each species whose centre lies in the slice (axes: sample, species, slice)")?;
+        let species: Vec<&str> = meta.species.iter().map(String::as_str).collect();
+        super::diag_file::names(
+            &file,
+            "species",
+            &species,
+            "species names, in case order (index = species index)",
+        )?;
         super::diag_file::create(&file, layout)?;
+        super::diag_file::label_axes(&file)?;
         Ok(RunFile {
             file,
             final_path: path.to_path_buf(),
@@ -418,6 +418,8 @@ pub fn verify(path: &Path) -> hdf5::Result<()> {
             let dt = ds.dtype()?;
             if dt.is::<f64>() {
                 ds.read_raw::<f64>()?;
+            } else if dt.is::<f32>() {
+                ds.read_raw::<f32>()?;
             } else if dt.is::<u64>() {
                 ds.read_raw::<u64>()?;
             } else if dt.is::<u8>() {
@@ -430,8 +432,9 @@ pub fn verify(path: &Path) -> hdf5::Result<()> {
     Ok(())
 }
 
-/// Units of lengths in the file's attributes.
-const LENGTH: &str = "length (m for SI cases, small-particle diameters for reduced ones)";
+/// Units of lengths (written as the file's unit of length, its root attribute
+/// `length_unit`).
+const LENGTH: &str = "length";
 
 impl RunFile {
     /// Record a number as a root attribute (run statistics: `steps`, `rebuilds`,

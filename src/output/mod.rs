@@ -4,6 +4,7 @@
 
 pub mod checkpoint;
 pub mod diag_file;
+pub mod dimscales;
 pub mod h5;
 pub mod lock;
 pub mod pario;

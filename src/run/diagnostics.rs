@@ -13,12 +13,22 @@ use crate::output::diag_file::{self, DiagLayout};
 use crate::output::{xdmf, RunFile};
 use std::path::{Path, PathBuf};
 
-/// Steps between the events of the diagnostics.
+/// When the diagnostics' events happen.
+///
+/// Samples are numbered `j = 1, 2, ...`; sample `j` is taken at `j` sample intervals, in
+/// rotations [`Schedule::sample_rotations`], on the step nearest to that time
+/// ([`steps_for`]). A per-slice window is `per_window` samples and ends, by construction, at
+/// a whole multiple of its length in rotations (`diagnostics.window`): the window `k` ends on
+/// the step nearest `k * window` rotations, so windows do not drift however the steps per
+/// rotation round; a field window likewise is `per_field_window` samples.
 #[derive(Debug, Clone, Copy)]
 struct Schedule {
-    sample: u64,
-    window: u64,
-    field_window: u64,
+    /// Per-slice window in rotations.
+    window: f64,
+    /// Samples per per-slice window.
+    per_window: u64,
+    /// Samples per field window.
+    per_field_window: u64,
     paths: u64,
     snapshots: Option<u64>,
     dt: f64,
@@ -30,6 +40,70 @@ impl Schedule {
     fn rotations(&self, step: u64) -> f64 {
         step as f64 * self.dt * self.omega.abs() / (2.0 * std::f64::consts::PI)
     }
+
+    /// The nominal time of sample `j`, in rotations: whole windows plus whole intervals.
+    fn sample_rotations(&self, j: u64) -> f64 {
+        let (k, r) = (j / self.per_window, j % self.per_window);
+        k as f64 * self.window + r as f64 * (self.window / self.per_window as f64)
+    }
+
+    /// The step sample `j` is taken at.
+    fn sample_step(&self, j: u64) -> u64 {
+        steps_for(self.sample_rotations(j), self.omega, self.dt)
+    }
+
+    /// Samples taken by the end of `step` (steps of equal time share one sample only if
+    /// the interval is below a step, which [`Schedule::new`] refuses).
+    fn samples_by(&self, step: u64) -> u64 {
+        let interval = self.window / self.per_window as f64 * 2.0 * std::f64::consts::PI
+            / (self.omega.abs() * self.dt);
+        // an estimate within a sample or two, then the exact count
+        let mut j = (step as f64 / interval.max(1.0)) as u64;
+        while self.sample_step(j + 1) <= step {
+            j += 1;
+        }
+        while j > 0 && self.sample_step(j) > step {
+            j -= 1;
+        }
+        j
+    }
+}
+
+/// The schedule for `case`, with the adjustments it needed said (`notes`).
+fn schedule(case: &Case, notes: &mut Vec<String>) -> Result<Schedule, String> {
+    let (omega, dt) = (case.drum.omega, case.dt());
+    let g = &case.diagnostics;
+    let per_window = ((g.window / g.sample_every).round() as u64).max(1);
+    let interval = g.window / per_window as f64;
+    if (interval - g.sample_every).abs() > 1e-9 * g.sample_every {
+        notes.push(format!(
+            "diagnostics.sample_every = {} does not divide diagnostics.window = {} into whole samples: samples are taken every {interval} rotations, {per_window} to a window",
+            g.sample_every, g.window
+        ));
+    }
+    let steps_per_interval = interval * 2.0 * std::f64::consts::PI / (omega.abs() * dt);
+    if steps_per_interval < 1.0 {
+        return Err(format!(
+            "diagnostics.sample_every: samples every {interval} rotations would be {steps_per_interval:.3} time steps apart; it must be at least one step (run.dt = {dt})"
+        ));
+    }
+    let per_field_window = ((g.fields.window / interval).round() as u64).max(1);
+    let field_window = per_field_window as f64 * interval;
+    if (field_window - g.fields.window).abs() > 1e-9 * g.fields.window {
+        notes.push(format!(
+            "diagnostics.fields.window = {} is not a whole number of samples ({interval} rotations): field windows hold {per_field_window} samples, {field_window} rotations",
+            g.fields.window
+        ));
+    }
+    Ok(Schedule {
+        window: g.window,
+        per_window,
+        per_field_window,
+        paths: steps_for(g.paths.every.unwrap_or(g.sample_every), omega, dt).max(1),
+        snapshots: g.snapshots.every.map(|e| steps_for(e, omega, dt).max(1)),
+        dt,
+        omega,
+    })
 }
 
 /// Everything the run samples beyond the axial profiles.
@@ -45,6 +119,9 @@ pub struct RunDiagnostics {
     /// The species whose bands are counted (the biggest).
     pub big: usize,
     sched: Schedule,
+    /// The number of the next sample to take.
+    next_sample: u64,
+    units: crate::output::series::Units,
     snapshots: Vec<(String, f64, usize)>,
     output: PathBuf,
 }
@@ -59,7 +136,6 @@ impl RunDiagnostics {
         output: &Path,
         restored: Option<&DiagState>,
     ) -> Result<Self, String> {
-        let (omega, dt) = (case.drum.omega, case.dt());
         let g = &case.diagnostics;
         let d_max = case.d_max();
         let axial = AxialBins::new(
@@ -82,24 +158,22 @@ impl RunDiagnostics {
             min_slices: ((min_width / axial.width).round() as usize).max(1),
             periodic: case.drum.periodic(),
         };
-        // windows hold a whole number of samples
-        let sample = steps_for(g.sample_every, omega, dt).max(1);
-        let whole = |w: f64| sample * ((w / g.sample_every).round() as u64).max(1);
-        let sched = Schedule {
-            sample,
-            window: whole(g.window),
-            field_window: whole(g.fields.window),
-            paths: steps_for(g.paths.every.unwrap_or(g.sample_every), omega, dt).max(1),
-            snapshots: g.snapshots.every.map(|e| steps_for(e, omega, dt).max(1)),
-            dt,
-            omega,
-        };
+        let mut notes = Vec::new();
+        let sched = schedule(case, &mut notes)?;
+        if comm.rank() == 0 && restored.is_none() {
+            for n in notes {
+                log::warn!("{n}");
+            }
+        }
         let mut windows = Windows::new(case, &axial);
         if comm.rank() == 0 {
             windows.slices.hold_whole();
             windows.fields.hold_whole();
         }
         let paths = match restored {
+            Some(d) if !d.whole_windows => {
+                return Err("the checkpoint was written by a tumbler whose diagnostics windows were whole numbers of steps, not of rotations; its windows (in progress and in the output) cannot be continued on this schedule: finish that run with the version that started it".into());
+            }
             Some(d) => {
                 let root = comm.rank() == 0;
                 let differ = |what: &str, a: usize, b: usize| {
@@ -139,6 +213,8 @@ impl RunDiagnostics {
             paths,
             rule,
             big,
+            next_sample: sched.samples_by(sim.step) + 1,
+            units: crate::output::series::Units::of(case),
             sched,
             snapshots: Vec::new(),
             output: output.to_path_buf(),
@@ -157,15 +233,19 @@ impl RunDiagnostics {
             path_ids: self.paths.ids.clone(),
             bands: self.rule,
             band_species: self.big,
+            samples_per_window: self.sched.per_window,
+            samples_per_field_window: self.sched.per_field_window,
+            units: self.units,
         }
     }
 
     /// Records a checkpoint at `step` has behind it: `(slice windows, field windows, path
     /// samples)`.
     pub fn records_at(&self, step: u64) -> (usize, usize, usize) {
+        let samples = self.sched.samples_by(step);
         (
-            (step / self.sched.window) as usize,
-            (step / self.sched.field_window) as usize,
+            (samples / self.sched.per_window) as usize,
+            (samples / self.sched.per_field_window) as usize,
             (step / self.sched.paths) as usize + 1,
         )
     }
@@ -192,16 +272,20 @@ impl RunDiagnostics {
         let mut ok = true;
         let file_now = file.as_ref();
         let mut any = false;
-        if step > 0 && step.is_multiple_of(s.sample) {
+        let j = self.next_sample;
+        if step > 0 && step == s.sample_step(j) {
+            self.next_sample += 1;
             self.windows.sample(&sim.p, comm);
-        }
-        if step > 0 && step.is_multiple_of(s.window) {
-            any = true;
-            ok &= self.close(false, comm, file_now, step - s.window, step);
-        }
-        if step > 0 && step.is_multiple_of(s.field_window) {
-            any = true;
-            ok &= self.close(true, comm, file_now, step - s.field_window, step);
+            if j.is_multiple_of(s.per_window) {
+                any = true;
+                let start = s.sample_step(j - s.per_window);
+                ok &= self.close(false, comm, file_now, start, step);
+            }
+            if j.is_multiple_of(s.per_field_window) {
+                any = true;
+                let start = s.sample_step(j - s.per_field_window);
+                ok &= self.close(true, comm, file_now, start, step);
+            }
         }
         if !self.paths.is_empty() && step.is_multiple_of(s.paths) {
             any = true;
@@ -248,12 +332,17 @@ impl RunDiagnostics {
     ) -> Result<(), String> {
         let step = sim.step;
         let s = self.sched;
+        let taken = self.next_sample - 1;
         let mut ok = true;
-        if !step.is_multiple_of(s.window) && self.windows.slices.samples > 0 {
-            ok &= self.close(false, comm, file, step - step % s.window, step);
+        // a trailing partial window is written, with fewer samples than the group's
+        // `samples_per_window`, so that readers can tell it from the whole ones
+        if self.windows.slices.samples > 0 {
+            let start = s.sample_step(taken - taken % s.per_window);
+            ok &= self.close(false, comm, file, start, step);
         }
-        if !step.is_multiple_of(s.field_window) && self.windows.fields.samples > 0 {
-            ok &= self.close(true, comm, file, step - step % s.field_window, step);
+        if self.windows.fields.samples > 0 {
+            let start = s.sample_step(taken - taken % s.per_field_window);
+            ok &= self.close(true, comm, file, start, step);
         }
         if comm.all_ok(ok) {
             Ok(())
@@ -324,6 +413,7 @@ impl RunDiagnostics {
             fields: saved(&mut w.fields),
             angles: w.angles.clone(),
             path_ids: self.paths.ids.clone(),
+            whole_windows: true,
         }
     }
 
@@ -372,6 +462,54 @@ fn logged(r: hdf5::Result<()>, what: &str) -> bool {
         Err(e) => {
             log::error!("writing {what}: {e}");
             false
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The quick case's schedule: 2513.27 steps per rotation, 50 samples a window.
+    fn quick(window: f64, per_window: u64) -> Schedule {
+        Schedule {
+            window,
+            per_window,
+            per_field_window: 10 * per_window,
+            paths: 50,
+            snapshots: None,
+            dt: 0.005,
+            omega: 0.5,
+        }
+    }
+
+    #[test]
+    fn windows_end_on_the_step_nearest_whole_rotations_without_drift() {
+        let s = quick(1.0, 50);
+        let per_rotation = 2.0 * std::f64::consts::PI / (0.5 * 0.005);
+        for k in [1u64, 2, 80, 4300, 1_000_000] {
+            let end = s.sample_step(k * 50);
+            assert!(
+                (end as f64 - k as f64 * per_rotation).abs() <= 0.5,
+                "window {k} ends at step {end}"
+            );
+            assert!((s.rotations(end) - k as f64).abs() <= 0.5 / per_rotation * 1.0001);
+        }
+    }
+
+    #[test]
+    fn samples_counted_by_a_step_are_those_taken_up_to_it() {
+        for s in [quick(1.0, 50), quick(0.5, 7), quick(2.0, 3)] {
+            for j in (1..3000).chain([123_456, 7_654_321]) {
+                let at = s.sample_step(j);
+                assert!(
+                    at > s.sample_step(j - 1),
+                    "samples {j} and {} share a step",
+                    j - 1
+                );
+                assert_eq!(s.samples_by(at), j);
+                assert_eq!(s.samples_by(at - 1), j - 1);
+            }
         }
     }
 }

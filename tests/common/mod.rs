@@ -81,9 +81,18 @@ pub fn diagnostics_bits(path: &Path) -> Vec<(String, Vec<u64>)> {
             let v: Vec<u64> = if dt.is::<f64>() {
                 let x: Vec<f64> = ds.read_raw().unwrap();
                 x.iter().map(|v| v.to_bits()).collect()
+            } else if dt.is::<f32>() {
+                let x: Vec<f32> = ds.read_raw().unwrap();
+                x.iter().map(|v| v.to_bits() as u64).collect()
             } else if dt.is::<u8>() {
                 let x: Vec<u8> = ds.read_raw().unwrap();
                 x.iter().map(|&v| v as u64).collect()
+            } else if dt.is::<hdf5::types::VarLenUnicode>() {
+                // names (species, components): their bytes, each name ended by a zero
+                let x: Vec<hdf5::types::VarLenUnicode> = ds.read_raw().unwrap();
+                x.iter()
+                    .flat_map(|v| v.as_bytes().iter().map(|&b| b as u64).chain([0]))
+                    .collect()
             } else {
                 ds.read_raw().unwrap()
             };
