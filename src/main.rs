@@ -332,9 +332,8 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
 fn main() -> ExitCode {
     tumbler::output::pario::start_library();
     let cli = Cli::parse();
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
-        .format_timestamp_secs()
-        .init();
+    // stderr, and the run's NAME.log while a run is going on (src/run/run_log.rs)
+    tumbler::run::run_log::init();
     if matches!(
         cli.command,
         Command::Info { .. }
