@@ -179,3 +179,20 @@ fn a_quantity_that_is_nan_everywhere_is_refused() {
     );
     assert!(!dir.path().join("run_field_depth_columns_1.png").exists());
 }
+
+#[test]
+fn densities_from_bins_narrower_than_a_particle_come_with_a_warning() {
+    // the test case's 12 x 12 x 4 grid over a 30 mm drum: 2.5 mm bins, 3 mm particles
+    let (_dir, f) = copy("run.h5");
+    let f = f.to_str().unwrap();
+    let o = plot(&["field", f, "--quantity", "volume_fraction:large"]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("warning: the field bins are") && err.contains("diagnostics.fields.grid"),
+        "{err}"
+    );
+    let o = plot(&["field", f, "--quantity", "w"]);
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+}

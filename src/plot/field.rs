@@ -6,7 +6,7 @@ use super::canvas::{edges, nearest, render, Format};
 use super::colormap::ColorMap;
 use super::heatmap::{Grid, Heatmap};
 use super::lines::Curve;
-use super::quantity::{ColumnField, Plane, Quantity};
+use super::quantity::{ColumnField, Plane, Quantity, SpeciesField};
 use super::{length_label, output_path};
 use crate::inspect::{InspectError, RunReader, Window};
 use ndarray::ArrayD;
@@ -83,6 +83,7 @@ pub fn plot_field_in(
         });
         plane_view(&reader, &q, plane, &window, &axes)?
     };
+    warn_of_narrow_bins(&reader, &q, &axes);
     let qname = q.name(&names);
     let title = q.title(&names);
     if !view.grid.values.iter().any(|v| v.is_finite()) {
@@ -104,6 +105,48 @@ pub fn plot_field_in(
     };
     render(&path, format, &map)?;
     Ok(path)
+}
+
+/// Say on stderr when a density is drawn from bins narrower than the largest particle: each
+/// particle counts whole in the bin of its centre, so such bins alternate between empty and
+/// over-full (a volume fraction above 1) instead of averaging over particles.
+fn warn_of_narrow_bins(reader: &RunReader, q: &Quantity, axes: &Axes) {
+    let density = matches!(
+        q,
+        Quantity::Species {
+            field: SpeciesField::VolumeFraction | SpeciesField::NumberDensity,
+            ..
+        }
+    );
+    let Some(d) = reader.case().ok().map(|c| c.d_max()) else {
+        return;
+    };
+    let width = |c: &[f64]| {
+        let e = edges(c);
+        (e[e.len() - 1] - e[0]) / c.len().max(1) as f64
+    };
+    let spans = [&axes.x, &axes.y, &axes.z].map(|c| {
+        let e = edges(c);
+        e[e.len() - 1] - e[0]
+    });
+    let narrowest = [&axes.x, &axes.y, &axes.z]
+        .map(|c| width(c))
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    if density && narrowest < d {
+        let most = spans.map(|s| ((s / d).floor() as usize).max(1));
+        log::warn!(
+            "the field bins are {} wide, narrower than the largest particle ({}): a particle \
+             counts whole in the bin of its centre, so the map is speckled and can exceed a \
+             volume fraction of 1; for bins at least a diameter wide, run with \
+             diagnostics.fields.grid = [{}, {}, {}] or coarser",
+            short(narrowest),
+            short(d),
+            most[0],
+            most[1],
+            most[2]
+        );
+    }
 }
 
 /// The refusal of a quantity with no finite value where it would be drawn.
