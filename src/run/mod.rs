@@ -484,6 +484,9 @@ fn run_locked(
         }
     }
     let seconds = start.elapsed().as_secs_f64();
+    if let Some(l) = runlog {
+        l.end_progress();
+    }
     save_checkpoint(
         &sim,
         &mut diags,

@@ -206,6 +206,15 @@ impl RunLog {
     }
 }
 
+impl RunLog {
+    /// Remove the progress bar (the step loop is over; the summary follows as plain lines).
+    pub fn end_progress(&self) {
+        if let Some(bar) = sink().bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
 impl Drop for RunLog {
     fn drop(&mut self) {
         let mut sink = sink();
