@@ -153,8 +153,11 @@ enum Command {
         #[arg(long)]
         list: bool,
     },
-    /// Draw a picture of a run's HDF5 file as a PNG.
+    /// Draw a picture of a run's HDF5 file as a PNG, an SVG or a PDF.
     Plot {
+        /// The file format (default: from the extension of -o, else png).
+        #[arg(long, value_enum, global = true)]
+        format: Option<FormatArg>,
         #[command(subcommand)]
         what: PlotCommand,
     },
@@ -167,6 +170,17 @@ enum LammpsArg {
     Data,
     /// A text dump (LAMMPS `dump custom`, LIGGGHTS).
     Dump,
+}
+
+/// The formats of `tumbler plot --format`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FormatArg {
+    /// A bitmap.
+    Png,
+    /// Vector graphics.
+    Svg,
+    /// Vector graphics with the font embedded, for a paper.
+    Pdf,
 }
 
 /// The tiers of `tumbler validate`.
@@ -185,7 +199,7 @@ enum PlotCommand {
     Spacetime {
         /// The run's HDF5 file.
         file: PathBuf,
-        /// The PNG to write (default `STEM_spacetime.png` beside the file).
+        /// The picture to write (default `STEM_spacetime.png` beside the file, or .svg/.pdf).
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// The run's own picture: no axes, no labels.
@@ -196,10 +210,10 @@ enum PlotCommand {
     Profile {
         /// The run's HDF5 file.
         file: PathBuf,
-        /// Window index (0 = first; default the last).
+        /// Window index (0 = first; default the last complete window).
         #[arg(long, value_name = "K")]
         window: Option<usize>,
-        /// The PNG to write (default `STEM_profile_K.png` beside the file).
+        /// The picture to write (default `STEM_profile_K.png` beside the file, or .svg/.pdf).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -211,14 +225,14 @@ enum PlotCommand {
         /// u, v, w, ud, vd, wd, u_rms, v_rms, w_rms, rms, depth, boundary, surface.
         #[arg(long, value_name = "Q")]
         quantity: String,
-        /// Window index (0 = first; default the last).
+        /// Window index (0 = first; default the last complete window).
         #[arg(long, value_name = "K")]
         window: Option<usize>,
         /// y=V, x=V, z=V or surface (default: surface for velocities, else the z plane
         /// nearest 0); ignored for depth, boundary and surface.
         #[arg(long, value_name = "PLANE")]
         plane: Option<String>,
-        /// The PNG to write (default `STEM_field_Q_PLANE_K.png` beside the file).
+        /// The picture to write (default `STEM_field_Q_PLANE_K.png` beside the file, or .svg/.pdf).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -226,10 +240,11 @@ enum PlotCommand {
     Flux {
         /// The run's HDF5 file.
         file: PathBuf,
-        /// Only these windows, e.g. `0,5,10`.
+        /// Only these windows, e.g. `0,5,10` (default: up to 6 complete windows spread over
+        /// the run).
         #[arg(long, value_name = "LIST")]
         windows: Option<String>,
-        /// The PNG to write (default `STEM_flux.png` beside the file).
+        /// The picture to write (default `STEM_flux.png` beside the file, or .svg/.pdf).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -266,24 +281,29 @@ fn report(result: Result<String, InspectError>) -> ExitCode {
 }
 
 /// Draw a picture and say where it went.
-fn plot(what: PlotCommand) -> ExitCode {
+fn plot(what: PlotCommand, format: Option<FormatArg>) -> ExitCode {
     use tumbler::plot::*;
+    let format = format.map(|f| match f {
+        FormatArg::Png => Format::Png,
+        FormatArg::Svg => Format::Svg,
+        FormatArg::Pdf => Format::Pdf,
+    });
     let written = match what {
         PlotCommand::Spacetime { file, output, bare } => {
-            plot_spacetime(&file, &SpacetimeOptions { output, bare })
+            plot_spacetime_in(&file, &SpacetimeOptions { output, bare }, format)
         }
         PlotCommand::Profile {
             file,
             window,
             output,
-        } => plot_profile(&file, &ProfileOptions { window, output }),
+        } => plot_profile_in(&file, &ProfileOptions { window, output }, format),
         PlotCommand::Field {
             file,
             quantity,
             window,
             plane,
             output,
-        } => plot_field(
+        } => plot_field_in(
             &file,
             &FieldOptions {
                 quantity,
@@ -291,6 +311,7 @@ fn plot(what: PlotCommand) -> ExitCode {
                 plane,
                 output,
             },
+            format,
         ),
         PlotCommand::Flux {
             file,
@@ -300,7 +321,7 @@ fn plot(what: PlotCommand) -> ExitCode {
             .as_deref()
             .map(parse_windows)
             .transpose()
-            .and_then(|windows| plot_flux(&file, &FluxOptions { windows, output })),
+            .and_then(|windows| plot_flux_in(&file, &FluxOptions { windows, output }, format)),
     };
     report(written.map(|path| format!("wrote {}\n", path.display())))
 }
@@ -380,9 +401,8 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
 fn main() -> ExitCode {
     tumbler::output::pario::start_library();
     let cli = Cli::parse();
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
-        .format_timestamp_secs()
-        .init();
+    // stderr, and the run's NAME.log while a run is going on (src/run/run_log.rs)
+    tumbler::run::run_log::init();
     if matches!(
         cli.command,
         Command::Info { .. }
@@ -416,7 +436,7 @@ fn main() -> ExitCode {
             )
             .map(|t| t.to_string())
         })),
-        Command::Plot { what } => plot(what),
+        Command::Plot { what, format } => plot(what, format),
         Command::Export {
             file,
             lammps,

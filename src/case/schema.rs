@@ -21,6 +21,14 @@ impl Case {
         untitled(self) == untitled(other)
     }
 
+    /// Interval between thermo lines, in rotations: `output.thermo_every`, or a tenth of
+    /// `run.rotations` but at most one rotation.
+    pub fn thermo_every(&self) -> f64 {
+        self.output
+            .thermo_every
+            .unwrap_or_else(|| (0.1 * self.run.rotations).min(1.0))
+    }
+
     /// Largest nominal diameter.
     pub fn d_max(&self) -> f64 {
         self.species.iter().map(|s| s.diameter).fold(0.0, f64::max)
@@ -465,6 +473,10 @@ pub struct Output {
     /// Interval between checkpoints, in rotations (one is always written at the end).
     #[serde(default)]
     pub checkpoint_every: Option<f64>,
+    /// Interval between thermo lines in the log, in rotations (default: a tenth of
+    /// `run.rotations`, at most one rotation; see [`Case::thermo_every`]).
+    #[serde(default)]
+    pub thermo_every: Option<f64>,
 }
 
 fn default_sample_every() -> f64 {
@@ -481,6 +493,7 @@ impl Default for Output {
             slice_width: None,
             progress_every: default_progress_every(),
             checkpoint_every: None,
+            thermo_every: None,
         }
     }
 }

@@ -443,6 +443,9 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
     if let Some(k) = o.checkpoint_every {
         c.positive("output.checkpoint_every", k);
     }
+    if let Some(k) = o.thermo_every {
+        c.positive("output.thermo_every", k);
+    }
     if let Some(w) = o.slice_width {
         if !(w.is_finite() && w > 0.0 && w <= d.axial_length()) {
             c.bad(

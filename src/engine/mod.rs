@@ -6,6 +6,7 @@ pub mod halo;
 pub mod neighbor;
 pub mod sim;
 pub mod slabs;
+pub mod thermo;
 pub mod timers;
 
 pub use sim::{DecompositionError, Sim};

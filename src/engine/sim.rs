@@ -646,6 +646,12 @@ impl<'c> Sim<'c> {
         Ok(())
     }
 
+    /// This rank's pair list (local indices, lower id first) and the axial period, for
+    /// measurements that read the contacts without computing forces (`engine::thermo`).
+    pub fn pair_list(&self) -> (&[(u32, u32)], Option<f64>) {
+        (&self.nl.pairs, self.period())
+    }
+
     /// The largest overlap of a listed pair, relative to the smaller diameter (the contact
     /// diameter being `(d_a + d_b)/2` in both families), and that pair's ids.
     fn worst_overlap(&self) -> (f64, u64, u64) {

@@ -1,5 +1,8 @@
-//! The drawing surface shared by every plot: an RGB bitmap drawn with `plotters`, text in
-//! DejaVu Sans compiled into the binary (no system fonts needed), written as a PNG.
+//! The drawing surface shared by every plot: a [`Figure`] drawn with `plotters` on any
+//! backend and written as a PNG (a bitmap, text in DejaVu Sans compiled into the binary, no
+//! system fonts needed), an SVG (`plotters`' SVG backend, text as text) or a PDF (that SVG
+//! converted by `svg2pdf`, the embedded DejaVu Sans as its font). Sizes are in pixels of the
+//! PNG; text sizes are chosen to stay readable when a figure is printed a column wide.
 
 use crate::inspect::{tick_label, InspectError};
 use plotters::coord::Shift;
@@ -12,11 +15,65 @@ use std::sync::Once;
 /// The font family every text of the plots uses (registered from the embedded bytes).
 pub const FONT: &str = "sans-serif";
 
-/// A drawing area on the bitmap, in pixels.
-pub type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// Text sizes, in pixels: titles, axis titles, tick labels, legends.
+pub const TITLE: u32 = 24;
+/// Axis titles and colour-bar titles.
+pub const AXIS_TITLE: u32 = 21;
+/// Tick labels.
+pub const TICK: u32 = 18;
+/// Legend entries.
+pub const LEGEND: u32 = 17;
+
+/// A drawing area on some backend.
+pub type Area<'a, DB> = DrawingArea<DB, Shift>;
 
 /// What a drawing closure returns.
 pub type DrawResult = Result<(), Box<dyn Error>>;
+
+/// The file formats of `tumbler plot --format`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Format {
+    /// A bitmap.
+    #[default]
+    Png,
+    /// Vector graphics, text as text.
+    Svg,
+    /// Vector graphics for a paper, the font embedded.
+    Pdf,
+}
+
+impl Format {
+    /// Parse `--format`.
+    pub fn parse(text: &str) -> Result<Self, InspectError> {
+        match text {
+            "png" => Ok(Format::Png),
+            "svg" => Ok(Format::Svg),
+            "pdf" => Ok(Format::Pdf),
+            _ => Err(InspectError::Invalid(format!(
+                "unknown format '{text}' (--format): expected png, svg or pdf"
+            ))),
+        }
+    }
+
+    /// The file name extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Png => "png",
+            Format::Svg => "svg",
+            Format::Pdf => "pdf",
+        }
+    }
+}
+
+/// A picture that can be drawn on any backend.
+pub trait Figure {
+    /// Size in pixels (of the PNG; the SVG and PDF have the same proportions).
+    fn size(&self) -> (u32, u32);
+    /// Draw on the whole of `root` (white already).
+    fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> DrawResult
+    where
+        DB::ErrorType: 'static;
+}
 
 /// Register the embedded font once per process.
 fn register_font() {
@@ -28,14 +85,59 @@ fn register_font() {
     });
 }
 
-/// Draw a `size` picture (white background) with `draw` and write it to `path` as an RGB
-/// PNG.
-pub fn render_png(
-    path: &Path,
-    size: (u32, u32),
-    draw: impl FnOnce(&Area) -> DrawResult,
-) -> Result<(), InspectError> {
+/// Draw `fig` on a white background and write it to `path` in `format`.
+pub fn render(path: &Path, format: Format, fig: &impl Figure) -> Result<(), InspectError> {
     register_font();
+    let fail = |reason: String| InspectError::Write {
+        path: path.display().to_string(),
+        reason,
+    };
+    let drawing = |e: Box<dyn Error>| fail(format!("drawing failed ({e})"));
+    let size = fig.size();
+    let bytes = match format {
+        Format::Png => return write_png(path, size, fig),
+        Format::Svg => svg(size, fig).map_err(drawing)?.into_bytes(),
+        Format::Pdf => {
+            let svg = svg(size, fig).map_err(drawing)?;
+            pdf(&svg).map_err(|e| fail(format!("converting to PDF failed ({e})")))?
+        }
+    };
+    std::fs::write(path, bytes).map_err(|e| fail(e.to_string()))
+}
+
+/// The figure as SVG text.
+fn svg(size: (u32, u32), fig: &impl Figure) -> Result<String, Box<dyn Error>> {
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        fig.draw(&root)?;
+        root.present()?;
+    }
+    Ok(text)
+}
+
+/// An SVG drawing as a one-page PDF, its text set in the embedded DejaVu Sans.
+fn pdf(svg: &str) -> Result<Vec<u8>, Box<dyn Error>> {
+    let mut fonts = usvg::fontdb::Database::new();
+    fonts.load_font_data(dejavu::sans::regular().to_vec());
+    fonts.set_sans_serif_family("DejaVu Sans");
+    let options = usvg::Options {
+        fontdb: std::sync::Arc::new(fonts),
+        font_family: "DejaVu Sans".into(),
+        ..usvg::Options::default()
+    };
+    let tree = usvg::Tree::from_str(svg, &options)?;
+    svg2pdf::to_pdf(
+        &tree,
+        svg2pdf::ConversionOptions::default(),
+        svg2pdf::PageOptions::default(),
+    )
+    .map_err(|e| e.to_string().into())
+}
+
+/// Draw `fig` on a bitmap and write it to `path` as an RGB PNG.
+fn write_png(path: &Path, size: (u32, u32), fig: &impl Figure) -> Result<(), InspectError> {
     let fail = |reason: String| InspectError::Write {
         path: path.display().to_string(),
         reason,
@@ -45,7 +147,8 @@ pub fn render_png(
     {
         let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
-        draw(&root).map_err(|e| fail(format!("drawing failed ({e})")))?;
+        fig.draw(&root)
+            .map_err(|e| fail(format!("drawing failed ({e})")))?;
         root.present().map_err(|e| fail(e.to_string()))?;
     }
     let file = std::fs::File::create(path).map_err(|e| fail(e.to_string()))?;

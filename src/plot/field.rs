@@ -2,21 +2,21 @@
 //! bins or on the free-surface layer, as a colour map; on a `z` plane the flowing-layer
 //! boundary (and the free surface) are drawn over the cross-section.
 
-use super::canvas::{edges, nearest, render_png};
+use super::canvas::{edges, nearest, render, Format};
 use super::colormap::ColorMap;
-use super::heatmap::{draw_heatmap, Grid, Heatmap};
+use super::heatmap::{Grid, Heatmap};
 use super::lines::Curve;
-use super::quantity::{Plane, Quantity};
-use super::{default_output, length_label};
+use super::quantity::{ColumnField, Plane, Quantity, SpeciesField};
+use super::{length_label, output_path};
 use crate::inspect::{InspectError, RunReader, Window};
 use ndarray::ArrayD;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
 /// Picture size of an `x`-`y` cross-section (`z` plane).
-pub const SIZE_CROSS_SECTION: (u32, u32) = (820, 700);
+pub const SIZE_CROSS_SECTION: (u32, u32) = (980, 820);
 /// Picture size of a map along the axis (`surface`, `x` and `y` planes, column fields).
-pub const SIZE_ALONG_AXIS: (u32, u32) = (1100, 520);
+pub const SIZE_ALONG_AXIS: (u32, u32) = (1200, 620);
 /// The free-surface layer is the highest bin whose volume fraction (all species) is at least
 /// this (as `/fields/surface`).
 pub const SURFACE_FRACTION: f64 = 0.25;
@@ -26,11 +26,12 @@ pub const SURFACE_FRACTION: f64 = 0.25;
 pub struct FieldOptions {
     /// `--quantity`.
     pub quantity: String,
-    /// `--window` (default the last).
+    /// `--window` (default the last complete one).
     pub window: Option<usize>,
     /// `--plane` (default `surface` for velocities, else the `z` plane nearest 0).
     pub plane: Option<String>,
-    /// `-o` (default `STEM_field_<quantity>_<plane>_<window>.png` beside the file).
+    /// `-o` (default `STEM_field_<quantity>_<plane>_<window>.png` beside the file; its
+    /// extension `.png`, `.svg` or `.pdf` chooses the format).
     pub output: Option<PathBuf>,
 }
 
@@ -51,13 +52,22 @@ struct View {
     size: (u32, u32),
 }
 
-/// Draw the field plot of `file`; returns the picture's path.
+/// Draw the field plot of `file` (format from `-o`, else PNG); returns the picture's path.
 pub fn plot_field(file: &Path, opts: &FieldOptions) -> Result<PathBuf, InspectError> {
+    plot_field_in(file, opts, None)
+}
+
+/// [`plot_field`] in `format` (`--format`; `None`: from `-o`, else PNG).
+pub fn plot_field_in(
+    file: &Path,
+    opts: &FieldOptions,
+    format: Option<Format>,
+) -> Result<PathBuf, InspectError> {
     let reader = RunReader::open(file)?;
     let names = reader.species_names();
     let q = Quantity::parse(&opts.quantity, &names)?;
     let plane = opts.plane.as_deref().map(Plane::parse).transpose()?;
-    let window = reader.window("fields", opts.window)?;
+    let window = super::windows::chosen(&reader, "fields", opts.window)?;
     let axes = Axes {
         x: reader.centres("fields/x")?,
         y: reader.centres("fields/y")?,
@@ -73,25 +83,88 @@ pub fn plot_field(file: &Path, opts: &FieldOptions) -> Result<PathBuf, InspectEr
         });
         plane_view(&reader, &q, plane, &window, &axes)?
     };
+    warn_of_narrow_bins(&reader, &q, &axes);
     let qname = q.name(&names);
+    let title = q.title(&names);
+    if !view.grid.values.iter().any(|v| v.is_finite()) {
+        return Err(all_nan(&q, &opts.quantity, &view.title, &window));
+    }
     let bar_label = match reader.units(q.dataset()) {
-        Some(u) => format!("{qname} [{u}]"),
-        None => qname.clone(),
+        Some(u) => format!("{title} [{u}]"),
+        None => format!("{title} [-]"),
     };
+    let what = format!("field_{qname}_{}_{}", view.tag, window.index);
+    let (path, format) = output_path(file, opts.output.as_deref(), &what, format)?;
     let map = Heatmap {
-        title: format!("{qname}, {}, {}", view.title, window.label()),
+        title: format!("{title}, {}, {}", view.title, window.label()),
         cmap: ColorMap::over(view.grid.values.iter().copied(), q.signed()),
         grid: view.grid,
         bar_label,
         overlays: view.overlays,
+        size: view.size,
     };
-    let what = format!("field_{qname}_{}_{}", view.tag, window.index);
-    let path = opts
-        .output
-        .clone()
-        .unwrap_or_else(|| default_output(file, &what));
-    render_png(&path, view.size, |root| draw_heatmap(root, &map))?;
+    render(&path, format, &map)?;
     Ok(path)
+}
+
+/// Say on stderr when a density is drawn from bins narrower than the largest particle: each
+/// particle counts whole in the bin of its centre, so such bins alternate between empty and
+/// over-full (a volume fraction above 1) instead of averaging over particles.
+fn warn_of_narrow_bins(reader: &RunReader, q: &Quantity, axes: &Axes) {
+    let density = matches!(
+        q,
+        Quantity::Species {
+            field: SpeciesField::VolumeFraction | SpeciesField::NumberDensity,
+            ..
+        }
+    );
+    let Some(d) = reader.case().ok().map(|c| c.d_max()) else {
+        return;
+    };
+    let width = |c: &[f64]| {
+        let e = edges(c);
+        (e[e.len() - 1] - e[0]) / c.len().max(1) as f64
+    };
+    let spans = [&axes.x, &axes.y, &axes.z].map(|c| {
+        let e = edges(c);
+        e[e.len() - 1] - e[0]
+    });
+    let narrowest = [&axes.x, &axes.y, &axes.z]
+        .map(|c| width(c))
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    if density && narrowest < d {
+        let most = spans.map(|s| ((s / d).floor() as usize).max(1));
+        log::warn!(
+            "the field bins are {} wide, narrower than the largest particle ({}): a particle \
+             counts whole in the bin of its centre, so the map is speckled and can exceed a \
+             volume fraction of 1; for bins at least a diameter wide, run with \
+             diagnostics.fields.grid = [{}, {}, {}] or coarser",
+            short(narrowest),
+            short(d),
+            most[0],
+            most[1],
+            most[2]
+        );
+    }
+}
+
+/// The refusal of a quantity with no finite value where it would be drawn.
+fn all_nan(q: &Quantity, asked: &str, place: &str, window: &Window) -> InspectError {
+    let why = match q {
+        Quantity::Column(ColumnField::Depth | ColumnField::Boundary) => {
+            "the flowing-layer boundary was found in no column: the drum-frame streamwise \
+             velocity never fell to 0.05 u0 below the surface (a bed that does not flow, or \
+             a window too short to average it)"
+        }
+        _ => "every bin is empty or unmeasured there",
+    };
+    InspectError::Invalid(format!(
+        "--quantity {asked}: nothing to draw, /{} is NaN everywhere on {place} in {} ({why}); \
+         try another --window or --plane",
+        q.dataset(),
+        window.label()
+    ))
 }
 
 /// A column quantity (`F x X x ZF`) as a `z`-`x` map.

@@ -1,7 +1,7 @@
 //! A colour map of values on a rectangular grid of bins, with a colour bar, axis labels,
 //! tick values, a title and optional curves drawn over it.
 
-use super::canvas::{edges, text, ticks, Area, DrawResult};
+use super::canvas::{edges, text, ticks, Area, DrawResult, Figure, AXIS_TITLE, TICK, TITLE};
 use super::colormap::ColorMap;
 use super::lines::Curve;
 use plotters::prelude::*;
@@ -58,21 +58,37 @@ pub struct Heatmap {
     pub bar_label: String,
     /// Curves drawn over the map, in the grid's coordinates (with a legend if labelled).
     pub overlays: Vec<Curve>,
+    /// Picture size in pixels.
+    pub size: (u32, u32),
 }
 
-/// Width of the colour bar strip on the right, in pixels.
-const BAR_WIDTH: u32 = 150;
+/// Width of the colour bar strip on the right (the bar, its tick values and its title
+/// beside it), in pixels.
+const BAR_WIDTH: u32 = 160;
+/// Width of the bar itself, in pixels.
+const BAR: u32 = 30;
 
-/// Draw `map` on the whole of `root`.
-pub fn draw_heatmap(root: &Area, map: &Heatmap) -> DrawResult {
-    let body = root.titled(&map.title, text(18))?;
-    let (w, _) = body.dim_in_pixel();
-    let (main, bar) = body.split_horizontally(w.saturating_sub(BAR_WIDTH));
-    draw_grid(&main, map)?;
-    draw_bar(&bar, &map.cmap, &map.bar_label)
+impl Figure for Heatmap {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let body = root.titled(&self.title, text(TITLE))?;
+        let (w, _) = body.dim_in_pixel();
+        let (main, bar) = body.split_horizontally(w.saturating_sub(BAR_WIDTH));
+        draw_grid(&main, self)?;
+        draw_bar(&bar, &self.cmap, &self.bar_label)
+    }
 }
 
-fn draw_grid(area: &Area, map: &Heatmap) -> DrawResult {
+fn draw_grid<DB: DrawingBackend>(area: &Area<DB>, map: &Heatmap) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let g = &map.grid;
     let (he, ve) = (edges(&g.h), edges(&g.v));
     if he.is_empty() || ve.is_empty() {
@@ -83,8 +99,8 @@ fn draw_grid(area: &Area, map: &Heatmap) -> DrawResult {
     let mut chart = ChartBuilder::on(area)
         .margin(10)
         .margin_right(16)
-        .x_label_area_size(48)
-        .y_label_area_size(80)
+        .x_label_area_size(62)
+        .y_label_area_size(104)
         .build_cartesian_2d(h_range.clone(), v_range.clone())?;
     let (h_fmt, v_fmt) = (ticks(&h_range), ticks(&v_range));
     chart
@@ -94,8 +110,8 @@ fn draw_grid(area: &Area, map: &Heatmap) -> DrawResult {
         .y_desc(g.v_label.as_str())
         .x_label_formatter(&h_fmt)
         .y_label_formatter(&v_fmt)
-        .label_style(text(14))
-        .axis_desc_style(text(16))
+        .label_style(text(TICK))
+        .axis_desc_style(text(AXIS_TITLE))
         .draw()?;
     let nv = g.v.len();
     chart.draw_series((0..g.h.len()).flat_map(|i| {
@@ -108,15 +124,20 @@ fn draw_grid(area: &Area, map: &Heatmap) -> DrawResult {
     super::lines::draw_curves(&mut chart, &map.overlays)
 }
 
-/// The colour bar: the map's colours from `lo` (bottom) to `hi` (top), values on its left.
-fn draw_bar(area: &Area, cmap: &ColorMap, label: &str) -> DrawResult {
+/// The colour bar: the map's colours from `lo` (bottom) to `hi` (top), a narrow strip with
+/// its tick values and its title right beside it, on its right.
+fn draw_bar<DB: DrawingBackend>(area: &Area<DB>, cmap: &ColorMap, label: &str) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let range = cmap.lo..cmap.hi;
+    let (w, _) = area.dim_in_pixel();
     let mut chart = ChartBuilder::on(area)
         .margin(10)
-        .margin_right(4)
-        .margin_left(10)
-        .x_label_area_size(48)
-        .y_label_area_size(96)
+        .margin_left(12)
+        .margin_right(14)
+        .x_label_area_size(62)
+        .right_y_label_area_size(w.saturating_sub(BAR + 12 + 14))
         .build_cartesian_2d(0.0..1.0, range.clone())?;
     const STEPS: usize = 200;
     let step = (cmap.hi - cmap.lo) / STEPS as f64;
@@ -130,10 +151,11 @@ fn draw_bar(area: &Area, cmap: &ColorMap, label: &str) -> DrawResult {
         .configure_mesh()
         .disable_mesh()
         .disable_x_axis()
+        .set_tick_mark_size(LabelAreaPosition::Right, 6)
         .y_desc(label)
         .y_label_formatter(&fmt)
-        .label_style(text(13))
-        .axis_desc_style(text(15))
+        .label_style(text(TICK))
+        .axis_desc_style(text(AXIS_TITLE))
         .draw()?;
     Ok(())
 }

@@ -1,7 +1,9 @@
 //! Line panels: curves over a horizontal axis with axis labels, tick values and a legend;
 //! a NaN leaves a gap in its curve.
 
-use super::canvas::{finite_range, padded, text, ticks, Area, DrawResult};
+use super::canvas::{
+    finite_range, padded, text, ticks, Area, DrawResult, Figure, AXIS_TITLE, LEGEND, TICK, TITLE,
+};
 use plotters::prelude::*;
 use std::ops::Range;
 
@@ -50,8 +52,47 @@ pub fn palette(k: usize) -> RGBColor {
     COLORS[k % COLORS.len()]
 }
 
+/// Panels stacked top to bottom under one title: a whole picture.
+#[derive(Debug, Clone)]
+pub struct Stack {
+    /// Title above the panels (empty: none).
+    pub title: String,
+    /// The panels, top first.
+    pub panels: Vec<Panel>,
+    /// Picture size in pixels.
+    pub size: (u32, u32),
+}
+
+impl Figure for Stack {
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &Area<DB>) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let body = if self.title.is_empty() {
+            root.clone()
+        } else {
+            root.titled(&self.title, text(TITLE))?
+        };
+        for (area, panel) in body
+            .split_evenly((self.panels.len().max(1), 1))
+            .iter()
+            .zip(&self.panels)
+        {
+            draw_panel(area, panel)?;
+        }
+        Ok(())
+    }
+}
+
 /// Draw `panel` on `area`; the vertical range covers every finite value of its curves.
-pub fn draw_panel(area: &Area, panel: &Panel) -> DrawResult {
+pub fn draw_panel<DB: DrawingBackend>(area: &Area<DB>, panel: &Panel) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let (lo, hi) = finite_range(
         panel
             .curves
@@ -63,10 +104,10 @@ pub fn draw_panel(area: &Area, panel: &Panel) -> DrawResult {
     builder
         .margin(8)
         .margin_right(20)
-        .x_label_area_size(44)
-        .y_label_area_size(86);
+        .x_label_area_size(62)
+        .y_label_area_size(112);
     if !panel.caption.is_empty() {
-        builder.caption(&panel.caption, text(18));
+        builder.caption(&panel.caption, text(AXIS_TITLE));
     }
     let mut chart = builder.build_cartesian_2d(panel.x_range.clone(), y_range.clone())?;
     let x_fmt = ticks(&panel.x_range);
@@ -77,17 +118,17 @@ pub fn draw_panel(area: &Area, panel: &Panel) -> DrawResult {
         .y_desc(panel.y_label.as_str())
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
-        .label_style(text(14))
-        .axis_desc_style(text(16))
+        .label_style(text(TICK))
+        .axis_desc_style(text(AXIS_TITLE))
         .light_line_style(RGBColor(240, 240, 240))
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
     if !lo.is_finite() {
         area.draw_text(
             "no finite values",
-            &text(16),
+            &text(AXIS_TITLE),
             (
-                area.dim_in_pixel().0 as i32 / 2 - 60,
+                area.dim_in_pixel().0 as i32 / 2 - 80,
                 area.dim_in_pixel().1 as i32 / 2,
             ),
         )?;
@@ -96,22 +137,28 @@ pub fn draw_panel(area: &Area, panel: &Panel) -> DrawResult {
 }
 
 /// The chart curves are drawn on (line panels and colour maps alike).
-pub type Chart<'a, 'b> = ChartContext<
+pub type Chart<'a, DB> = ChartContext<
     'a,
-    BitMapBackend<'b>,
+    DB,
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
 /// Draw `curves` (a gap at every non-finite point, a dot for a lone point), each with a
 /// legend entry if it has a label, and the legend if any has.
-pub fn draw_curves<'b>(chart: &mut Chart<'b, 'b>, curves: &[Curve]) -> DrawResult {
+pub fn draw_curves<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    curves: &[Curve],
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let mut labelled_any = false;
     for curve in curves {
         let style = ShapeStyle::from(&curve.color).stroke_width(curve.width);
         let mut labelled = curve.label.is_empty();
         for run in finite_runs(&curve.points) {
             let anno = if run.len() == 1 {
-                chart.draw_series(std::iter::once(Circle::new(run[0], 3, style.filled())))?
+                chart.draw_series(std::iter::once(Circle::new(run[0], 4, style.filled())))?
             } else if curve.dashed {
                 chart.draw_series(DashedLineSeries::new(run, 9, 5, style))?
             } else {
@@ -120,10 +167,10 @@ pub fn draw_curves<'b>(chart: &mut Chart<'b, 'b>, curves: &[Curve]) -> DrawResul
             if !labelled {
                 let dashed = curve.dashed;
                 anno.label(curve.label.as_str()).legend(move |(x, y)| {
-                    let (a, b) = if dashed { (8, 13) } else { (20, 0) };
+                    let (a, b) = if dashed { (10, 16) } else { (26, 0) };
                     EmptyElement::at((x, y))
                         + PathElement::new(vec![(0, 0), (a, 0)], style)
-                        + PathElement::new(vec![(b, 0), (20, 0)], style)
+                        + PathElement::new(vec![(b, 0), (26, 0)], style)
                 });
                 labelled = true;
                 labelled_any = true;
@@ -133,7 +180,7 @@ pub fn draw_curves<'b>(chart: &mut Chart<'b, 'b>, curves: &[Curve]) -> DrawResul
     if labelled_any {
         chart
             .configure_series_labels()
-            .label_font(text(13))
+            .label_font(text(LEGEND))
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(120, 120, 120))
             .position(SeriesLabelPosition::UpperRight)

@@ -3,8 +3,10 @@
 //! mixture's upstream/downstream fluxes over the windows.
 //!
 //! Each plot reads what it needs through [`crate::inspect::RunReader`] (a missing dataset
-//! or a bad option is an [`InspectError`] naming it), draws with `plotters` on a bitmap
-//! with an embedded font, and writes a PNG, by default `STEM_<what>.png` beside the file.
+//! or a bad option is an [`InspectError`] naming it), draws with `plotters` with an
+//! embedded font, and writes a PNG, an SVG or a PDF (`--format`, or the extension of `-o`),
+//! by default `STEM_<what>.png` beside the file. A plot of one window defaults to the last
+//! complete one (`windows.rs`).
 
 mod canvas;
 mod colormap;
@@ -12,17 +14,19 @@ mod heatmap;
 mod lines;
 mod quantity;
 mod series;
+pub mod windows;
 
 pub mod field;
 pub mod flux;
 pub mod profile;
 pub mod spacetime;
 
-pub use field::{plot_field, FieldOptions};
-pub use flux::{plot_flux, FluxOptions};
-pub use profile::{plot_profile, ProfileOptions};
+pub use canvas::Format;
+pub use field::{plot_field, plot_field_in, FieldOptions};
+pub use flux::{plot_flux, plot_flux_in, FluxOptions};
+pub use profile::{plot_profile, plot_profile_in, ProfileOptions};
 pub use quantity::{Plane, Quantity, QUANTITIES};
-pub use spacetime::{plot_spacetime, SpacetimeOptions};
+pub use spacetime::{plot_spacetime, plot_spacetime_in, SpacetimeOptions};
 
 use crate::inspect::{InspectError, RunReader};
 use std::path::{Path, PathBuf};
@@ -45,6 +49,34 @@ pub fn default_output(file: &Path, what: &str) -> PathBuf {
         })
         .collect();
     file.with_file_name(format!("{stem}_{what}.png"))
+}
+
+/// The file to write and its format: `-o` (`output`) if given, else `STEM_<what>.EXT`
+/// beside `file`; the format is `--format` (`format`), else that of `-o`'s extension, else
+/// PNG. A `--format` that contradicts `-o`'s extension is refused.
+pub fn output_path(
+    file: &Path,
+    output: Option<&Path>,
+    what: &str,
+    format: Option<Format>,
+) -> Result<(PathBuf, Format), InspectError> {
+    let Some(out) = output else {
+        let format = format.unwrap_or_default();
+        let path = default_output(file, what).with_extension(format.extension());
+        return Ok((path, format));
+    };
+    let by_name = out
+        .extension()
+        .and_then(|e| Format::parse(&e.to_string_lossy().to_ascii_lowercase()).ok());
+    match (format, by_name) {
+        (Some(f), Some(n)) if f != n => Err(InspectError::Invalid(format!(
+            "--format {} but -o {} names a .{} file; give one or make them agree",
+            f.extension(),
+            out.display(),
+            n.extension()
+        ))),
+        (f, n) => Ok((out.to_path_buf(), f.or(n).unwrap_or_default())),
+    }
 }
 
 /// `z [m]`: an axis name with the `units` attribute of `dataset`, if it has one.

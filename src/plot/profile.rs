@@ -2,30 +2,39 @@
 //! panels sharing `z`: concentrations, upstream/downstream fluxes (per species and of the
 //! mixture), and the diffusivity `K` of species 0.
 
-use super::canvas::{edges, render_png, text};
-use super::lines::{draw_panel, palette, Curve, Panel};
+use super::canvas::{edges, render, Format};
+use super::lines::{palette, Curve, Panel, Stack};
 use super::series::{mixture, per_species};
-use super::{default_output, length_label};
+use super::{length_label, output_path};
 use crate::inspect::{InspectError, RunReader};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// Picture size in pixels.
-pub const SIZE: (u32, u32) = (900, 1080);
+pub const SIZE: (u32, u32) = (1000, 1240);
 
 /// What to draw.
 #[derive(Debug, Clone, Default)]
 pub struct ProfileOptions {
-    /// `--window` (default the last).
+    /// `--window` (default the last complete one).
     pub window: Option<usize>,
     /// `-o` (default `STEM_profile_<window>.png` beside the file).
     pub output: Option<PathBuf>,
 }
 
-/// Draw the profile plot of `file`; returns the picture's path.
+/// Draw the profile plot of `file` (format from `-o`, else PNG); returns the picture's path.
 pub fn plot_profile(file: &Path, opts: &ProfileOptions) -> Result<PathBuf, InspectError> {
+    plot_profile_in(file, opts, None)
+}
+
+/// [`plot_profile`] in `format` (`--format`; `None`: from `-o`, else PNG).
+pub fn plot_profile_in(
+    file: &Path,
+    opts: &ProfileOptions,
+    format: Option<Format>,
+) -> Result<PathBuf, InspectError> {
     let reader = RunReader::open(file)?;
-    let window = reader.window("slices", opts.window)?;
+    let window = super::windows::chosen(&reader, "slices", opts.window)?;
     let z = reader.centres("slices/z")?;
     let nz = z.len();
     let names = reader.species_names();
@@ -56,13 +65,13 @@ pub fn plot_profile(file: &Path, opts: &ProfileOptions) -> Result<PathBuf, Inspe
     let z_label = length_label(&reader, "z", "slices/z");
     let with_units = |what: &str, dataset: &str| match reader.units(dataset) {
         Some(u) => format!("{what} [{u}]"),
-        None => what.to_string(),
+        None => format!("{what} [-]"),
     };
     let panels = [
         Panel {
             caption: String::new(),
             x_label: z_label.clone(),
-            y_label: "concentration <C_s>".into(),
+            y_label: with_units("concentration <C_s>", "slices/concentration"),
             x_range: x_range.clone(),
             curves: (0..conc.len())
                 .map(|s| curve(name(s), palette(s), false, 2, &conc[s]))
@@ -71,7 +80,7 @@ pub fn plot_profile(file: &Path, opts: &ProfileOptions) -> Result<PathBuf, Inspe
         Panel {
             caption: String::new(),
             x_label: z_label.clone(),
-            y_label: with_units("Q", "slices/q_up"),
+            y_label: with_units("axial flow rate Q", "slices/q_up"),
             x_range: x_range.clone(),
             curves: (0..q_up.len())
                 .flat_map(|s| {
@@ -95,7 +104,7 @@ pub fn plot_profile(file: &Path, opts: &ProfileOptions) -> Result<PathBuf, Inspe
         Panel {
             caption: String::new(),
             x_label: z_label,
-            y_label: with_units("K", "slices/diffusivity"),
+            y_label: with_units("diffusivity K", "slices/diffusivity"),
             x_range,
             curves: vec![curve(
                 format!("K of {}", name(0)),
@@ -107,16 +116,13 @@ pub fn plot_profile(file: &Path, opts: &ProfileOptions) -> Result<PathBuf, Inspe
         },
     ];
     let title = format!("axial profiles, {}", window.label());
-    let path = opts
-        .output
-        .clone()
-        .unwrap_or_else(|| default_output(file, &format!("profile_{}", window.index)));
-    render_png(&path, SIZE, |root| {
-        let body = root.titled(&title, text(20))?;
-        for (area, panel) in body.split_evenly((3, 1)).iter().zip(&panels) {
-            draw_panel(area, panel)?;
-        }
-        Ok(())
-    })?;
+    let what = format!("profile_{}", window.index);
+    let (path, format) = output_path(file, opts.output.as_deref(), &what, format)?;
+    let figure = Stack {
+        title,
+        panels: panels.to_vec(),
+        size: SIZE,
+    };
+    render(&path, format, &figure)?;
     Ok(path)
 }

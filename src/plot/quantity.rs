@@ -163,7 +163,43 @@ impl Quantity {
         matches!(self, Quantity::Column(_))
     }
 
-    /// Short name for titles and file names (`w`, `volume_fraction:big`).
+    /// What the quantity is, in words, for titles and colour bars (`axial velocity w,
+    /// drum frame`, `volume fraction of big`): no internal keys.
+    pub fn title(&self, species: &[String]) -> String {
+        let uvw = [
+            "streamwise velocity u",
+            "surface-normal velocity v",
+            "axial velocity w",
+        ];
+        let rms = ["u_rms", "v_rms", "w_rms"];
+        let of = |s: usize| match species.get(s) {
+            Some(n) => n.clone(),
+            None => format!("species {s}"),
+        };
+        match *self {
+            Quantity::Species { field, species: s } => match field {
+                SpeciesField::NumberDensity => format!("number density of {}", of(s)),
+                SpeciesField::VolumeFraction => format!("volume fraction of {}", of(s)),
+                SpeciesField::AxialFlux => format!("axial particle flux of {}", of(s)),
+            },
+            Quantity::Velocity { drum, component } => format!(
+                "{}, {} frame",
+                uvw[component],
+                if drum { "drum" } else { "lab" }
+            ),
+            Quantity::Rms { component: 3 } => "velocity fluctuation (rms, drum frame)".into(),
+            Quantity::Rms { component } => {
+                format!("velocity fluctuation {} (drum frame)", rms[component])
+            }
+            Quantity::Column(c) => match c {
+                ColumnField::Depth => "flowing-layer depth".into(),
+                ColumnField::Boundary => "height of the flowing-layer boundary".into(),
+                ColumnField::Surface => "height of the free surface".into(),
+            },
+        }
+    }
+
+    /// Short name for file names (`w`, `volume_fraction:big`).
     pub fn name(&self, species: &[String]) -> String {
         let uvw = ["u", "v", "w", ""];
         match *self {
@@ -251,6 +287,10 @@ mod tests {
         let q = Quantity::parse("volume_fraction:big", &names).unwrap();
         assert_eq!(q.channel(), 1);
         assert_eq!(q.name(&names), "volume_fraction:big");
+        assert_eq!(q.title(&names), "volume fraction of big");
+        let ud = Quantity::parse("ud", &names).unwrap();
+        assert_eq!(ud.title(&names), "streamwise velocity u, drum frame");
+        assert!(!ud.title(&names).contains("ud"));
         assert_eq!(
             Quantity::parse("wd", &names).unwrap().dataset(),
             "fields/velocity_drum"

@@ -14,6 +14,8 @@ use std::time::Instant;
 
 mod diagnostics;
 mod preflight;
+pub mod run_log;
+pub mod thermo;
 pub use diagnostics::RunDiagnostics;
 pub use preflight::same_file;
 
@@ -82,17 +84,19 @@ pub fn spacetime_path(output: &Path) -> PathBuf {
     output.with_file_name(format!("{stem}_spacetime.png"))
 }
 
-/// Run `lc` on the ranks of `comm`. Rank 0 writes the outputs.
+/// Run `lc` on the ranks of `comm`. Rank 0 writes the outputs and the log.
 pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd, String> {
-    let case = &lc.case;
     let root = comm.rank() == 0;
-    // Before anything is computed or written: rank 0 checks the run's files and locks the
-    // output (held until this function returns).
-    let mut lock = None;
+    // a rank count the drum cannot be cut into is refused before any file is touched (every
+    // rank finds the same)
+    crate::engine::sim::slabs_fit(&lc.case, comm.size())?;
+    // Before anything is computed or written: rank 0 checks the run's files, locks the
+    // output and opens the log (both held until this function returns, the log closed first).
+    let mut held = None;
     let mut refused = String::new();
     if root {
-        match preflight::prepare(lc, opts) {
-            Ok(l) => lock = Some(l),
+        match preflight::prepare(lc, opts).and_then(|lock| Ok((open_log(lc, comm, opts)?, lock))) {
+            Ok(h) => held = Some(h),
             Err(e) => refused = e,
         }
     }
@@ -103,7 +107,63 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             "rank 0 refused the run's files".into()
         });
     }
-    let _lock = lock;
+    let runlog = held.as_ref().and_then(|h| h.0.as_ref());
+    let result = run_locked(lc, comm, opts, runlog);
+    if let (Err(e), Some(log)) = (&result, runlog) {
+        // `main` prints it on stderr
+        log.file_only(&format!("error: {e}"));
+    }
+    result
+}
+
+/// Open the run's log (rank 0): a restart continuing its output appends, a fresh run starts
+/// one. `None` for a restart with `--new-output` onto an existing output, which is refused
+/// once the checkpoint is read, without writing into that output's log.
+fn open_log(
+    lc: &LoadedCase,
+    comm: &dyn Comm,
+    opts: &RunOptions,
+) -> Result<Option<run_log::RunLog>, String> {
+    let out = &opts.output;
+    let exists = out.exists() || crate::output::partial_path(out).exists();
+    let ranks = comm.size();
+    let version = concat!("tumbler ", env!("CARGO_PKG_VERSION"));
+    let (start, header) = match &opts.restart {
+        Some(_) if opts.new_output && exists => return Ok(None),
+        Some(ck) if !opts.new_output => (
+            run_log::LogStart::Continue,
+            format!(
+                "{version} ({}): restart of {} from {} on {ranks} ranks, continuing {}",
+                crate::GIT_HASH,
+                lc.path,
+                ck.display(),
+                out.display()
+            ),
+        ),
+        _ => (
+            run_log::LogStart::Fresh {
+                overwrite: opts.overwrite,
+            },
+            format!(
+                "{version} ({}): run of {} on {ranks} ranks, writing {}",
+                crate::GIT_HASH,
+                lc.path,
+                out.display()
+            ),
+        ),
+    };
+    run_log::RunLog::open(out, start, &header).map(Some)
+}
+
+/// [`run`] once the output is locked and the log open.
+fn run_locked(
+    lc: &LoadedCase,
+    comm: &dyn Comm,
+    opts: &RunOptions,
+    runlog: Option<&run_log::RunLog>,
+) -> Result<RunEnd, String> {
+    let case = &lc.case;
+    let root = comm.rank() == 0;
     let (omega, dt) = (case.drum.omega, case.dt());
     let total = steps_for(case.run.rotations, omega, dt);
     let every = steps_for(case.output.sample_every, omega, dt).max(1);
@@ -270,6 +330,11 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         );
     }
 
+    let thermo_every = steps_for(case.thermo_every(), omega, dt).max(1);
+    let mut thermo = thermo::Thermo::new(case, &bins, thermo_every);
+    thermo.report(&sim, root);
+    let bar = runlog.is_some_and(|l| l.show_progress(total, sim.step));
+
     let mut sample = |sim: &mut Sim, file: &mut Option<RunFile>| -> Result<(), String> {
         let s = bins.gather(&sim.p, comm);
         let mut ok = true;
@@ -391,11 +456,22 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
             )?;
             sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
         }
+        if thermo.due(sim.step, total) {
+            let t0 = Instant::now();
+            thermo.report(&sim, root);
+            sim.timers.add(Phase::Output, t0.elapsed().as_secs_f64());
+        }
+        if let (true, Some(l)) = (bar && sim.step % STOP_CHECK_EVERY == 0, runlog) {
+            l.progress(sim.step, || {
+                format!("rotation {:.2}/{}", sim.rotations(), case.run.rotations)
+            });
+        }
         if root && sim.step % progress_every == 0 {
             let (t_prev, s_prev) = last_report;
             let rate = (sim.step - s_prev) as f64 / t_prev.elapsed().as_secs_f64().max(1e-9);
             let eta = (total - sim.step) as f64 / rate;
             log::info!(
+                target: run_log::PROGRESS,
                 "rotation {:.1}/{} ({:.0}%), {:.2} M particle-steps/s, imbalance {:.3}, ETA {}",
                 sim.rotations(),
                 case.run.rotations,
@@ -408,6 +484,9 @@ pub fn run(lc: &LoadedCase, comm: &dyn Comm, opts: &RunOptions) -> Result<RunEnd
         }
     }
     let seconds = start.elapsed().as_secs_f64();
+    if let Some(l) = runlog {
+        l.end_progress();
+    }
     save_checkpoint(
         &sim,
         &mut diags,
@@ -533,6 +612,12 @@ fn balance_check(sim: &mut Sim, case: &Case, file: Option<&RunFile>) -> Result<f
             log::error!("writing a load-balance check: {e}");
             ok = false;
         }
+        log::debug!(
+            "load-balance check at rotation {:.2}: work per rank max/mean {before:.3}, {:.3} after; slab bounds {:?}",
+            sim.rotations(),
+            after,
+            sim.slabs.bounds
+        );
         if after < before {
             log::info!(
                 "load balance at rotation {:.2}: imbalance {before:.3} -> {after:.3}, slab bounds {:?}",

@@ -94,6 +94,7 @@ fn outputs(out: &Path) -> Vec<(&'static str, PathBuf)> {
         ("XDMF file", xmf.clone()),
         ("temporary XDMF file", tmp_path(&xmf)),
         ("lock file", lock_path(out)),
+        ("log", super::run_log::log_path(out)),
     ]
 }
 
