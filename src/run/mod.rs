@@ -328,6 +328,12 @@ fn run_locked(
             case.run.rotations,
             dt
         );
+        let isa = crate::engine::forces::Isa::detect();
+        log::info!(
+            "pair contacts: {} ({} on this CPU; TUMBLER_ISA=reference|base|avx2 caps it, with the same bits)",
+            isa.name(),
+            crate::engine::forces::Isa::of_cpu().name()
+        );
     }
 
     let thermo_every = steps_for(case.thermo_every(), omega, dt).max(1);
