@@ -277,6 +277,22 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String> {
     let tmp = tmp_path(path);
     let root = comm.rank() == 0;
+    // A disk that fills up while parallel HDF5 closes the file can leave the ranks waiting
+    // for each other inside the library: refuse before writing when there is clearly no room.
+    let mut rows = [ck.particles.len() as u64, ck.histories.len() as u64];
+    comm.sum_u64_all(&mut rows);
+    let short = if root {
+        short_of_room(path, rows)
+    } else {
+        None
+    };
+    if !comm.all_ok(short.is_none()) {
+        return Err(format!(
+            "checkpoint {}: {}; the previous checkpoint, if any, is kept",
+            path.display(),
+            short.unwrap_or_else(|| "rank 0 found no room for it".into())
+        ));
+    }
     let written = write_rows_of_all(comm, &tmp, ck).and_then(|()| {
         let r = if root {
             finish_file(&tmp, ck).and_then(|()| {
@@ -312,6 +328,39 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
         let _ = std::fs::File::open(dir).and_then(|d| d.sync_all());
     }
     Ok(())
+}
+
+/// Why a checkpoint at `path` of `rows` (particles, histories) cannot fit on its disk, if it
+/// clearly cannot: it needs the size of the checkpoint it replaces (or, for the first one,
+/// of its particle and history rows) with a tenth and 64 KiB to spare, and the disk has less
+/// free space than that (`statvfs`).
+fn short_of_room(path: &Path, rows: [u64; 2]) -> Option<String> {
+    let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    let estimate = previous.max(rows[0] * 8 * 20 + rows[1] * 8 * 5);
+    let needed = estimate + estimate / 10 + (64 << 10);
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let free = free_bytes(dir)?;
+    (free < needed).then(|| {
+        format!(
+            "No space left on device: about {} kB needed, {} kB free on the disk of {}",
+            needed >> 10,
+            free >> 10,
+            dir.display()
+        )
+    })
+}
+
+/// Bytes free for an unprivileged user on the file system holding `dir`.
+fn free_bytes(dir: &Path) -> Option<u64> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes()).ok()?;
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    // SAFETY: `c` is a NUL-terminated path and `st` a writable statvfs.
+    let r = unsafe { libc::statvfs(c.as_ptr(), &mut st) };
+    (r == 0).then(|| st.f_bavail as u64 * st.f_frsize as u64)
 }
 
 /// Bytes a failed checkpoint's directory is probed for ([`no_room`]).
