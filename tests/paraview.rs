@@ -122,23 +122,16 @@ fn the_xmf_opens_in_paravews_default_reader_with_particles_drum_and_fields() {
     let Some(pv) = pvpython() else { return };
     let dir = common::tmpdir();
     let out = dir.path().join("drum.h5");
-    let case = common::case_path("sd_capped.toml");
-    let o = common::mpirun(
+    common::run_case(
         2,
+        "sd_capped.toml",
+        &out,
         &[
-            "run",
-            case.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--set",
             "run.rotations=0.06",
-            "--set",
             "diagnostics.snapshots.every=0.02",
-            "--set",
             "diagnostics.fields.window=0.03",
         ],
     );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (reader, steps) = read_in_paraview(&pv, &dir.path().join("drum.xmf"));
     assert_eq!(reader, "Xdmf3ReaderS", "ParaView's default reader for .xmf");
 

@@ -69,19 +69,7 @@ fn every_recipe_of_the_python_guide_runs_on_a_real_output() {
     let dir = common::tmpdir();
     // the recipes read quickstart.h5 in the working directory
     let out = dir.path().join("quickstart.h5");
-    let case = common::case_path("sd_capped.toml");
-    let o = common::mpirun(
-        2,
-        &[
-            "run",
-            case.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--set",
-            "run.rotations=0.12",
-        ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::run_case(2, "sd_capped.toml", &out, &["run.rotations=0.12"]);
     let f = hdf5::File::open(&out).unwrap();
     let shape = |n: &str| f.dataset(n).unwrap().shape();
     for (name, code) in &recipes {

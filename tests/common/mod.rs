@@ -43,6 +43,18 @@ pub fn mpirun_with_log(n: usize, args: &[&str], log: Option<&str>) -> std::proce
         .expect("mpirun could not be started (is openmpi-bin installed?)")
 }
 
+/// `mpirun -np n tumbler run CASE -o OUT --set S...` for a case of `tests/cases/`, asserting
+/// that it succeeds.
+pub fn run_case(n: usize, case: &str, out: &Path, sets: &[&str]) {
+    let case = case_path(case);
+    let mut args = vec!["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let o = mpirun(n, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// `tumbler args...` without mpirun.
 pub fn tumbler(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_tumbler"))
