@@ -252,7 +252,7 @@ tumbler_rate() { sed -n 's/.*done: .* \([0-9.]*\) M particle-steps\/s on.*/\1/p'
 tumbler_particles() { sed -n 's/.*: \([0-9]*\) particles on [0-9]* ranks, .*/\1/p' "$1" | head -n1; }
 # "name|seconds" per phase, from the table after "done:"
 tumbler_phases() {
-  sed -n '/done: /,$p' "$1" | sed -n 's/^\[[^]]*\] \{2,\}\(.*[^ ]\) \{1,\}\([0-9.]\{1,\}\) s \{1,\}[0-9.]\{1,\}%$/\1|\2/p'
+  sed -n '/done: /,$p' "$1" | sed -n 's/^\(\[[^]]*\]\)\{0,1\} \{2,\}\(.*[^ ]\) \{1,\}\([0-9.]\{1,\}\) s \{1,\}[0-9.]\{1,\}%$/\2|\3/p'
 }
 # peak RSS of every rank (kB), one line each
 peak_rss() { sed -n 's/.*Maximum resident set size (kbytes): \([0-9]*\).*/\1/p' "$1"; }

@@ -37,4 +37,4 @@ printf "| 1 | %s | %s | 100%% |\n" "$m1" "$m1"
 awk -v a="$m1" -v b="$m2" 'BEGIN { printf "| 2 | %s | %.3f | %.0f%% |\n", b, b/2, 100*b/(2*a) }'
 echo
 echo "per-phase times of the last 2-rank run:"
-grep -E "^\[.*\]   " "$work/np2.$repeats.log" | sed 's/^\[[^]]*\]//'
+sed -n '/done: /,$p' "$work/np2.$repeats.log" | grep -E " s +[0-9.]+%$" | sed 's/^\[[^]]*\]//'
