@@ -58,12 +58,12 @@ pub fn pair_forces_with(
     if isa == Isa::Reference {
         return pair_forces_reference(p, nl, law, mat, period, scale);
     }
-    let isa = isa.min(Isa::detect());
+    let isa = isa.min(Isa::of_cpu());
     let pass = Pass {
         mat,
         period,
         scale,
-        cutoff: law,
+        law,
     };
     match *law {
         ContactLaw::Rapaport { gamma_n, .. } => pass.run(isa, &RapaportBatch { gamma_n }, p, nl),
@@ -143,8 +143,8 @@ struct Pass<'a> {
     mat: &'a Materials,
     period: Option<f64>,
     scale: f64,
-    /// The law, for its cutoff while particles are scaled.
-    cutoff: &'a ContactLaw,
+    /// The run's law, for its cutoff while particles are scaled.
+    law: &'a ContactLaw,
 }
 
 impl Pass<'_> {
@@ -224,7 +224,7 @@ impl Pass<'_> {
                 cut2
             } else {
                 let rc = self
-                    .cutoff
+                    .law
                     .cutoff(p.diameter[a] * self.scale, p.diameter[b] * self.scale);
                 rc * rc
             };
@@ -255,10 +255,6 @@ impl Pass<'_> {
     /// Load a chunk of touching pairs into the batch's lanes.
     #[inline(always)]
     fn gather<L: BatchLaw>(self, b: &mut Batch, chunk: &[u32], p: &Particles, nl: &NeighborList) {
-        if chunk.len() < b.len || b.len == 0 {
-            *b = Batch::default();
-        }
-        b.len = chunk.len();
         for (l, &k) in chunk.iter().enumerate() {
             let (a, c) = nl.pairs[k as usize];
             let (a, c) = (a as usize, c as usize);

@@ -336,7 +336,9 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
 /// free space than that (`statvfs`).
 fn short_of_room(path: &Path, rows: [u64; 2]) -> Option<String> {
     let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    let estimate = previous.max(rows[0] * 8 * 20 + rows[1] * 8 * 5);
+    // a particle's row is its full state, a history's its two ids and three words
+    let words = rows[0] * crate::particles::PACKED_WORDS as u64 + rows[1] * 5;
+    let estimate = previous.max(8 * words);
     let needed = estimate + estimate / 10 + (64 << 10);
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,

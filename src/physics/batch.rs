@@ -23,12 +23,11 @@ pub const LANES: usize = 8;
 pub type Col = [f64; LANES];
 
 /// A batch of touching pairs, struct of arrays: the inputs a law reads, the history it
-/// updates and the force and torques it returns. Lanes past `len` hold harmless values
-/// (a unit separation of unit spheres at rest) and their results are ignored.
+/// updates and the force and torques it returns. A law evaluates every lane; lanes past
+/// the pairs loaded hold the default (a unit separation of unit spheres at rest) or the
+/// previous batch's contacts, finite either way, and their results are ignored.
 #[derive(Debug, Clone)]
 pub struct Batch {
-    /// Number of lanes in use.
-    pub len: usize,
     /// `r = x_a - x_b` (minimum image).
     pub r: [Col; 3],
     /// `v_a - v_b`.
@@ -64,7 +63,6 @@ impl Default for Batch {
         let z = [0.0; LANES];
         let one = [1.0; LANES];
         Batch {
-            len: 0,
             r: [one, z, z],
             v: [z; 3],
             wa: [z; 3],
@@ -189,15 +187,8 @@ impl BatchLaw for RapaportBatch {
             let rr = dot(s.r, s.r).sqrt();
             let n = [s.r[0] / rr, s.r[1] / rr, s.r[2] / rr];
             let vn = dot(n, s.v);
-            // eq. (1): zero at and beyond the cutoff (the pass's test is on r^2)
-            let q = d_ab / rr;
-            let q6 = q * q * q * q * q * q;
-            let rep = 48.0 / rr * (q6 * q6 - 0.5 * q6);
-            let rep = if rr >= super::rapaport::cutoff(d_ab) {
-                0.0
-            } else {
-                rep
-            };
+            // eq. (1), zero at and beyond the cutoff (the pass's test is on r^2)
+            let rep = super::rapaport::repulsion(rr, d_ab);
             let f_n = rep - self.gamma_n * vn;
             let sum_d = s.da + s.db;
             let w_eff = [

@@ -38,12 +38,16 @@ pub struct Friction {
 /// (positive = repulsive); zero at and beyond the cutoff.
 #[inline]
 pub fn repulsion(r: f64, d_ij: f64) -> f64 {
-    if r >= cutoff(d_ij) {
-        return 0.0;
-    }
+    // computed, then discarded beyond the cutoff: no branch, so the batched pass
+    // (`batch::RapaportBatch`) can call it in its vectorised lanes
     let s = d_ij / r;
     let s6 = s * s * s * s * s * s;
-    48.0 / r * (s6 * s6 - 0.5 * s6)
+    let f = 48.0 / r * (s6 * s6 - 0.5 * s6);
+    if r >= cutoff(d_ij) {
+        0.0
+    } else {
+        f
+    }
 }
 
 /// Sliding friction of eq. (4): `-min(gamma_s |v_s|, mu |f_n|) v_s/|v_s|`.
