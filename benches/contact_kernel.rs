@@ -14,6 +14,8 @@ use rand_chacha::ChaCha8Rng;
 use tumbler::engine::forces::{pair_forces_with, Isa};
 use tumbler::engine::neighbor::{Grid, NeighborList};
 use tumbler::particles::{ParticleState, Particles};
+use tumbler::physics::cohesion::CohesionLaw;
+use tumbler::physics::rolling::RollingLaw;
 use tumbler::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
 use tumbler::physics::{ContactLaw, Materials};
 
@@ -92,7 +94,7 @@ fn bench_law(c: &mut Criterion, name: &str, law: ContactLaw, mat: &Materials, d:
 fn kernels(c: &mut Criterion) {
     let sd = case("sd_capped.toml");
     let mat = Materials::new(&sd);
-    let law = ContactLaw::SpringDashpot(SpringDashpot {
+    let plain = SpringDashpot {
         normal: NormalLaw::Linear {
             k0: 1.0e7,
             two_gamma: 60.0,
@@ -101,8 +103,33 @@ fn kernels(c: &mut Criterion) {
             ratio: 2.0 / 7.0,
             dt: 2.5e-5,
         },
-    });
+        rolling: RollingLaw::None,
+        cohesion: CohesionLaw::None,
+    };
+    let law = ContactLaw::SpringDashpot(plain);
     bench_law(c, "spring-dashpot history", law, &mat, 0.0025);
+    // the same with the rolling spring and cohesion: what the sub-models cost
+    let mut sticky = sd.clone();
+    for s in sticky.species.iter_mut() {
+        s.mu_roll = Some(0.3);
+        s.cohesion_energy = Some(2.0e4);
+    }
+    let law = ContactLaw::SpringDashpot(SpringDashpot {
+        rolling: RollingLaw::Sds {
+            stiffness: 2.25,
+            damping: 0.3,
+            dt: 2.5e-5,
+        },
+        cohesion: CohesionLaw::Sjkr,
+        ..plain
+    });
+    bench_law(
+        c,
+        "spring-dashpot history + rolling sds + sjkr",
+        law,
+        &Materials::new(&sticky),
+        0.0025,
+    );
     let rap = case("periodic.toml");
     let mat = Materials::new(&rap);
     bench_law(c, "rapaport", ContactLaw::new(&rap), &mat, 1.0);

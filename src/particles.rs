@@ -1,11 +1,18 @@
 //! Struct-of-arrays particle storage. The first `n_owned` entries are the particles this rank
 //! owns; the rest are ghost copies of neighbours' particles (rebuilt with the halo).
 
+use crate::physics::contact::{History, HISTORY_MAX};
 use crate::physics::materials::WALLS;
 use crate::physics::Materials;
 
-/// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`]).
-pub const PACKED_WORDS: usize = 18 + 3 * WALLS;
+/// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`])
+/// when each contact keeps `words` history words.
+pub const fn packed_words(words: usize) -> usize {
+    18 + WALLS * words
+}
+
+/// The most `f64` words of a particle's full state (with the largest history).
+pub const PACKED_WORDS_MAX: usize = packed_words(HISTORY_MAX);
 /// Number of `f64` words of a ghost's record at a halo build: what a pair force needs (id,
 /// species, diameter, position, velocity, spin), the head of the full record.
 pub const GHOST_WORDS: usize = 12;
@@ -37,8 +44,11 @@ pub struct Particles {
     pub f: Vec<[f64; 3]>,
     /// Torque.
     pub t: Vec<[f64; 3]>,
-    /// Tangential history with each wall (curved, cap low, cap high); zero when not touching.
-    pub wall_hist: Vec<[[f64; 3]; WALLS]>,
+    /// History of the contact with each wall (curved, cap low, cap high), zero when not
+    /// touching: [`WALLS`] slots of [`Self::hist_words`] words per particle.
+    pub wall_hist: Vec<f64>,
+    /// History words per contact (the law's `history_words`).
+    pub hist_words: usize,
     /// Axial offset of a ghost's periodic image, used only to bin it (0 for owned particles).
     pub z_image: Vec<f64>,
 }
@@ -58,8 +68,8 @@ pub struct ParticleState {
     pub v: [f64; 3],
     /// Angular velocity.
     pub w: [f64; 3],
-    /// Tangential history with each wall.
-    pub wall_hist: [[f64; 3]; WALLS],
+    /// History with each wall (the first `history_words` of each used).
+    pub wall_hist: [History; WALLS],
     /// Force of the last evaluation (what the next half kick uses).
     pub f: [f64; 3],
     /// Torque of the last evaluation.
@@ -76,7 +86,7 @@ impl ParticleState {
             x,
             v,
             w,
-            wall_hist: [[0.0; 3]; WALLS],
+            wall_hist: [[0.0; HISTORY_MAX]; WALLS],
             f: [0.0; 3],
             t: [0.0; 3],
         }
@@ -84,6 +94,26 @@ impl ParticleState {
 }
 
 impl Particles {
+    /// No particles yet; contacts keep `hist_words` words of history.
+    pub fn new(hist_words: usize) -> Self {
+        Particles {
+            hist_words,
+            ..Default::default()
+        }
+    }
+
+    /// The wall histories of particle `i` ([`WALLS`] slots of `hist_words` words).
+    #[inline]
+    pub fn wall_hist_mut(&mut self, i: usize) -> &mut [f64] {
+        let w = WALLS * self.hist_words;
+        &mut self.wall_hist[i * w..(i + 1) * w]
+    }
+
+    /// Words of this store's full-state record ([`Self::pack`]).
+    pub fn packed_words(&self) -> usize {
+        packed_words(self.hist_words)
+    }
+
     /// Number of owned + ghost particles.
     pub fn len(&self) -> usize {
         self.id.len()
@@ -114,7 +144,9 @@ impl Particles {
         self.w.push(p.w);
         self.f.push(p.f);
         self.t.push(p.t);
-        self.wall_hist.push(p.wall_hist);
+        for h in &p.wall_hist {
+            self.wall_hist.extend_from_slice(&h[..self.hist_words]);
+        }
         self.z_image.push(z_image);
     }
 
@@ -134,10 +166,20 @@ impl Particles {
             x: self.x[i],
             v: self.v[i],
             w: self.w[i],
-            wall_hist: self.wall_hist[i],
+            wall_hist: self.wall_hist_of(i),
             f: self.f[i],
             t: self.t[i],
         }
+    }
+
+    fn wall_hist_of(&self, i: usize) -> [History; WALLS] {
+        let w = self.hist_words;
+        let mut out = [[0.0; HISTORY_MAX]; WALLS];
+        for (k, h) in out.iter_mut().enumerate() {
+            let at = (i * WALLS + k) * w;
+            h[..w].copy_from_slice(&self.wall_hist[at..at + w]);
+        }
+        out
     }
 
     /// Drop every ghost.
@@ -156,7 +198,7 @@ impl Particles {
         self.w.truncate(n);
         self.f.truncate(n);
         self.t.truncate(n);
-        self.wall_hist.truncate(n);
+        self.wall_hist.truncate(n * WALLS * self.hist_words);
         self.z_image.truncate(n);
     }
 
@@ -178,7 +220,8 @@ impl Particles {
                     self.w[k] = self.w[i];
                     self.f[k] = self.f[i];
                     self.t[k] = self.t[i];
-                    self.wall_hist[k] = self.wall_hist[i];
+                    let w = WALLS * self.hist_words;
+                    self.wall_hist.copy_within(i * w..(i + 1) * w, k * w);
                 }
                 k += 1;
             }
@@ -187,7 +230,7 @@ impl Particles {
         self.n_owned = k;
     }
 
-    /// Append particle `i`'s full state to a message buffer.
+    /// Append particle `i`'s full state to a message buffer ([`Self::packed_words`] words).
     pub fn pack(&self, i: usize, buf: &mut Vec<f64>) {
         buf.push(self.id[i] as f64);
         buf.push(self.species[i] as f64);
@@ -195,9 +238,8 @@ impl Particles {
         buf.extend_from_slice(&self.x[i]);
         buf.extend_from_slice(&self.v[i]);
         buf.extend_from_slice(&self.w[i]);
-        for h in &self.wall_hist[i] {
-            buf.extend_from_slice(h);
-        }
+        let w = WALLS * self.hist_words;
+        buf.extend_from_slice(&self.wall_hist[i * w..(i + 1) * w]);
         buf.extend_from_slice(&self.f[i]);
         buf.extend_from_slice(&self.t[i]);
     }
@@ -233,14 +275,15 @@ pub fn unpack_ghost(rec: &[f64]) -> ParticleState {
     ParticleState::new(rec[0] as u64, rec[1] as u8, rec[2], v3(3), v3(6), v3(9))
 }
 
-/// Decode one full-state record written by [`Particles::pack`].
-pub fn unpack(rec: &[f64]) -> ParticleState {
+/// Decode one full-state record written by [`Particles::pack`] with `words` history words
+/// per contact.
+pub fn unpack(rec: &[f64], words: usize) -> ParticleState {
     let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
-    let mut wall_hist = [[0.0; 3]; WALLS];
+    let mut wall_hist = [[0.0; HISTORY_MAX]; WALLS];
     for (k, h) in wall_hist.iter_mut().enumerate() {
-        *h = v3(12 + 3 * k);
+        h[..words].copy_from_slice(&rec[12 + words * k..12 + words * (k + 1)]);
     }
-    let tail = 12 + 3 * WALLS;
+    let tail = 12 + words * WALLS;
     ParticleState {
         id: rec[0] as u64,
         species: rec[1] as u8,

@@ -1,13 +1,17 @@
 //! The batched, vectorised pair pass gives the same bits as the scalar reference laws, on
 //! every instruction set this CPU has, for every contact law: forces, torques and
 //! tangential histories, sliding and sticking contacts, contacts at rest, periodic images,
-//! rough-wall particles and particles that are still growing (a pour).
+//! rough-wall particles and particles that are still growing (a pour); and every
+//! composition with the rolling and cohesion sub-models.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumbler::engine::forces::{pair_forces_with, Isa};
 use tumbler::engine::neighbor::{Grid, NeighborList};
 use tumbler::particles::{ParticleState, Particles};
+use tumbler::physics::cohesion::CohesionLaw;
+use tumbler::physics::contact::HISTORY_MAX;
+use tumbler::physics::rolling::RollingLaw;
 use tumbler::physics::rough_wall::FIXED_SPECIES;
 use tumbler::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
 use tumbler::physics::{ContactLaw, Materials};
@@ -51,8 +55,8 @@ fn bed(n: usize, d: f64, side: f64, mat: &Materials, seed: u64) -> Particles {
     p
 }
 
-/// Forces, torques and histories after a pair pass.
-type Outcome = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>);
+/// Forces, torques and histories (flat, the law's words per pair) after a pair pass.
+type Outcome = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<f64>);
 
 /// The pair pass of `law` on `p` with instruction set `isa`, the histories starting from
 /// `hist`: forces, torques and histories after it.
@@ -65,16 +69,19 @@ fn pass(
     mat: &Materials,
     period: Option<f64>,
     scale: f64,
-    hist: &[[f64; 3]],
+    hist: &[[f64; HISTORY_MAX]],
 ) -> Outcome {
     let mut p = p.clone();
     let reach = 1.2 * law.cutoff(1.3 * d, 1.3 * d);
     let grid = Grid::over([-2.0 * d; 3], [14.0 * d; 3], reach);
     let mut nl = NeighborList::default();
     nl.build(&p, &grid, 0.3 * reach, law);
-    assert!(nl.hist.len() <= hist.len(), "{} pairs", nl.hist.len());
-    let n = nl.hist.len();
-    nl.hist.copy_from_slice(&hist[..n]);
+    let w = nl.words;
+    assert_eq!(w, law.history_words());
+    assert!(nl.pairs.len() <= hist.len(), "{} pairs", nl.pairs.len());
+    for (k, h) in nl.hist.chunks_exact_mut(w.max(1)).enumerate() {
+        h.copy_from_slice(&hist[k][..w]);
+    }
     for f in p.f.iter_mut().chain(p.t.iter_mut()) {
         *f = [0.0; 3];
     }
@@ -88,6 +95,10 @@ fn bits(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
         .collect()
 }
 
+fn flat_bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
 /// Every instruction set against the reference, on one law; returns the number of pairs
 /// that touched, so a test can tell that it exercised something.
 fn same_bits(law: ContactLaw, mat: &Materials, d: f64, scale: f64, period: Option<f64>) -> usize {
@@ -96,16 +107,23 @@ fn same_bits(law: ContactLaw, mat: &Materials, d: f64, scale: f64, period: Optio
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     // histories: zero (of either sign: a pair apart keeps a -0.0 as the scalar law does),
     // small (sticking) and large (sliding)
-    let hist: Vec<[f64; 3]> = (0..40_000)
-        .map(|i| match i % 4 {
-            0 => [0.0; 3],
-            3 => [-0.0, 0.0, -0.0],
-            1 => [
-                rng.gen_range(-1e-3..1e-3) * d,
-                rng.gen_range(-1e-3..1e-3) * d,
-                rng.gen_range(-1e-3..1e-3) * d,
-            ],
-            _ => [rng.gen_range(-0.3..0.3) * d, 0.2 * d, -0.1 * d],
+    let hist: Vec<[f64; HISTORY_MAX]> = (0..40_000)
+        .map(|i| {
+            let mut h = [0.0; HISTORY_MAX];
+            for w in h.chunks_exact_mut(3) {
+                let v = match (i + rng.gen_range(0..2)) % 4 {
+                    0 => [0.0; 3],
+                    3 => [-0.0, 0.0, -0.0],
+                    1 => [
+                        rng.gen_range(-1e-3..1e-3) * d,
+                        rng.gen_range(-1e-3..1e-3) * d,
+                        rng.gen_range(-1e-3..1e-3) * d,
+                    ],
+                    _ => [rng.gen_range(-0.3..0.3) * d, 0.2 * d, -0.1 * d],
+                };
+                w.copy_from_slice(&v);
+            }
+            h
         })
         .collect();
     let period = period.map(|_| side);
@@ -122,8 +140,8 @@ fn same_bits(law: ContactLaw, mat: &Materials, d: f64, scale: f64, period: Optio
         // (a law without histories leaves them alone: only the reference clears them)
         if law.has_history() {
             assert_eq!(
-                bits(&got.2),
-                bits(&reference.2),
+                flat_bits(&got.2),
+                flat_bits(&reference.2),
                 "{}: histories",
                 isa.name()
             );
@@ -133,8 +151,32 @@ fn same_bits(law: ContactLaw, mat: &Materials, d: f64, scale: f64, period: Optio
 }
 
 fn spring_dashpot(normal: NormalLaw, tangential: TangentialLaw) -> ContactLaw {
-    ContactLaw::SpringDashpot(SpringDashpot { normal, tangential })
+    ContactLaw::SpringDashpot(SpringDashpot {
+        normal,
+        tangential,
+        rolling: RollingLaw::None,
+        cohesion: CohesionLaw::None,
+    })
 }
+
+/// The materials of `sd_capped.toml` with rolling friction and cohesion, different for
+/// the two species (so that mixed pairs mix them).
+fn sticky_rolling_materials() -> Materials {
+    let mut c = case("sd_capped.toml");
+    for (k, s) in c.species.iter_mut().enumerate() {
+        s.mu_roll = Some(0.2 + 0.1 * k as f64);
+        s.mu_roll_wall = Some(0.4);
+        s.cohesion_energy = Some(2.0e4 * (1 + k) as f64);
+        s.cohesion_energy_wall = Some(1.0e4);
+    }
+    Materials::new(&c)
+}
+
+const SDS: RollingLaw = RollingLaw::Sds {
+    stiffness: 2.25,
+    damping: 0.3,
+    dt: 2.5e-5,
+};
 
 const LINEAR: NormalLaw = NormalLaw::Linear {
     k0: 1.0e7,
@@ -182,19 +224,95 @@ fn history_law_slides_and_sticks_in_the_batches() {
     let d = 0.0025;
     let side = 12.0 * d;
     let p = bed(1500, d, side, &mat, 5);
-    let hist = vec![[0.0; 3]; 40_000];
+    let hist = vec![[0.0; HISTORY_MAX]; 40_000];
     let (_, _, h1) = pass(Isa::Reference, d, &p, &law, &mat, None, 1.0, &hist);
-    let (_, _, h2) = pass(Isa::Reference, d, &p, &law, &mat, None, 1.0, &h1);
+    let again = as_input(&h1, 3);
+    let (_, _, h2) = pass(Isa::Reference, d, &p, &law, &mat, None, 1.0, &again);
     let cap = h2
-        .iter()
-        .zip(&h1)
+        .chunks_exact(3)
+        .zip(h1.chunks_exact(3))
         .filter(|(a, b)| *a != *b && **b != [0.0; 3])
         .count();
     assert!(cap > 100, "only {cap} histories changed in a second pass");
-    let (_, _, h_auto) = pass(Isa::of_cpu(), d, &p, &law, &mat, None, 1.0, &h1);
-    assert_eq!(bits(&h_auto), bits(&h2));
+    let (_, _, h_auto) = pass(Isa::of_cpu(), d, &p, &law, &mat, None, 1.0, &again);
+    assert_eq!(flat_bits(&h_auto), flat_bits(&h2));
 }
 
+/// Flat histories of `words` per pair as the input of another pass.
+fn as_input(flat: &[f64], words: usize) -> Vec<[f64; HISTORY_MAX]> {
+    let mut out = vec![[0.0; HISTORY_MAX]; 40_000];
+    for (o, h) in out.iter_mut().zip(flat.chunks_exact(words)) {
+        o[..words].copy_from_slice(h);
+    }
+    out
+}
+
+#[test]
+fn rolling_and_cohesion_sub_models_same_bits_scalar_and_vector() {
+    let mat = sticky_rolling_materials();
+    let d = 0.0025;
+    for normal in [LINEAR, HERTZ] {
+        for tangential in [HISTORY, TangentialLaw::Viscous { gamma_s: None }] {
+            for rolling in [
+                RollingLaw::None,
+                RollingLaw::Constant,
+                RollingLaw::Viscous { eta: 1.0e-6 },
+                SDS,
+            ] {
+                for cohesion in [CohesionLaw::None, CohesionLaw::Sjkr] {
+                    let law = ContactLaw::SpringDashpot(SpringDashpot {
+                        normal,
+                        tangential,
+                        rolling,
+                        cohesion,
+                    });
+                    let n = same_bits(law, &mat, d, 1.0, None);
+                    assert!(n > 500, "{law:?}: only {n} particles touched");
+                    same_bits(law, &mat, d, 0.93, Some(0.0));
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn rolling_spring_slips_and_holds_in_the_batches() {
+    // both sides of the rolling spring's cut are taken: a stretched spring at a weak
+    // contact is cut back to the limit, one at a strong contact holds its length (turned
+    // into the tangent plane, plus one step of rolling)
+    let mat = sticky_rolling_materials();
+    let law = ContactLaw::SpringDashpot(SpringDashpot {
+        normal: LINEAR,
+        tangential: HISTORY,
+        rolling: SDS,
+        cohesion: CohesionLaw::Sjkr,
+    });
+    assert_eq!(law.history_words(), 6);
+    let d = 0.0025;
+    let p = bed(1500, d, 12.0 * d, &mat, 5);
+    let stretched = [0.0, 0.0, 0.0, 0.03 * d, 0.02 * d, -0.01 * d];
+    let hist = vec![stretched; 40_000];
+    let (_, _, h) = pass(Isa::Reference, d, &p, &law, &mat, None, 1.0, &hist);
+    let len = |w: &[f64]| (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let l0 = len(&stretched[3..]);
+    let touching: Vec<f64> = h
+        .chunks_exact(6)
+        .filter(|w| w[3..] != [0.0; 3])
+        .map(|w| len(&w[3..]) / l0)
+        .collect();
+    let cut = touching.iter().filter(|&&r| r < 0.9).count();
+    let held = touching
+        .iter()
+        .filter(|&&r| (0.9..1.1).contains(&r))
+        .count();
+    assert!(
+        cut > 50 && held > 50,
+        "{cut} cut, {held} held of {}",
+        touching.len()
+    );
+    let (_, _, h_auto) = pass(Isa::of_cpu(), d, &p, &law, &mat, None, 1.0, &hist);
+    assert_eq!(flat_bits(&h_auto), flat_bits(&h));
+}
 #[test]
 fn rapaport_law_same_bits_scalar_and_vector() {
     let c = case("periodic.toml");

@@ -2,10 +2,7 @@
 
 use tumbler::physics::rapaport::{self, Friction, CUTOFF_FACTOR, KAPPA, V3};
 
-const FR: Friction = Friction {
-    gamma_s: 10.0,
-    mu: 0.5,
-};
+const FR: Friction = Friction::sliding(10.0, 0.5);
 
 #[test]
 fn repulsion_matches_eq1_by_hand() {
@@ -82,10 +79,7 @@ fn spins_enter_the_sliding_velocity_as_eq3() {
     // move in opposite directions, so the sliding velocity is -(w d_i + w d_j)/(d_i+d_j) x r.
     let r = V3::new(1.0, 0.0, 0.0);
     let w = V3::new(0.0, 0.0, 1.0);
-    let fr = Friction {
-        gamma_s: 1.0,
-        mu: 100.0,
-    };
+    let fr = Friction::sliding(1.0, 100.0);
     let c = rapaport::pair(r, V3::zeros(), V3::zeros(), w, w, 1.0, 1.0, 0.0, fr).unwrap();
     // v_s = -(w x r) = -(z^ x x^) = -y^, so f_s = -gamma_s v_s = +y^
     assert!((c.force.y - 1.0).abs() < 1e-12, "{:?}", c.force);

@@ -203,6 +203,42 @@ fn history_model_with_balancing_is_bit_identical_on_4_6_8_ranks() {
     assert_boundaries_moved(dir.path(), "sd_capped.toml", &[4, 6, 8]);
 }
 
+/// `sd_capped.toml` with the rolling spring (6 history words per contact) and cohesion,
+/// different for the two species and the walls, turning twice as long (the rolling
+/// resistance keeps the bed together, so fewer contacts cross a face per rotation).
+pub const ROLLING_COHESION: [&str; 16] = [
+    "--set",
+    "model.rolling=\"sds\"",
+    "--set",
+    "species.0.mu_roll=0.1",
+    "--set",
+    "species.1.mu_roll=0.15",
+    "--set",
+    "model.cohesion=\"sjkr\"",
+    "--set",
+    "species.0.cohesion_energy=500.0",
+    "--set",
+    "species.1.cohesion_energy=800.0",
+    "--set",
+    "run.rotations=0.2",
+    "--set",
+    "run.balance_every=0.02",
+];
+
+#[test]
+fn rolling_and_cohesion_sub_models_with_balancing_are_bit_identical_on_1_2_3_4_ranks() {
+    // contacts carry six history words (tangential and rolling springs) through the list,
+    // the halo's migrations and the moving boundaries
+    let dir = tmpdir();
+    let others = assert_identical_with("sd_capped.toml", &[2, 3, 4], &ROLLING_COHESION, &dir);
+    assert_histories_migrated(&others);
+    // the sub-models act: the same run without them ends elsewhere
+    let d2 = tmpdir();
+    let plain = run_on(1, "sd_capped.toml", d2.path(), &ROLLING_COHESION[12..]);
+    let with = read(&dir.path().join("sd_capped.toml.1.h5"));
+    assert_ne!(bits(&plain.position), bits(&with.position));
+}
+
 #[test]
 fn periodic_history_drum_with_balancing_is_bit_identical_on_1_2_3_4_6_8_ranks() {
     // Histories across the periodic seam as well as the slab faces, boundaries moving.

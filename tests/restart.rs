@@ -113,6 +113,39 @@ fn restart_onto_many_more_or_fewer_ranks_with_balancing_is_bit_identical() {
 }
 
 #[test]
+fn restart_with_rolling_and_cohesion_onto_another_rank_count_is_bit_identical() {
+    // six history words per contact and per wall slot in the checkpoint
+    let dir = tmpdir();
+    let d = dir.path();
+    let sets = [
+        "--set",
+        "model.rolling=\"sds\"",
+        "--set",
+        "species.0.mu_roll=0.2",
+        "--set",
+        "species.1.mu_roll=0.3",
+        "--set",
+        "model.cohesion=\"sjkr\"",
+        "--set",
+        "species.0.cohesion_energy=2000.0",
+        "--set",
+        "species.1.cohesion_energy=3000.0",
+    ];
+    run_with(2, d, "full.h5", "0.1", None, &sets);
+    for (a, b) in [(4, 1), (1, 3)] {
+        let name = format!("part{a}{b}.h5");
+        run_with(a, d, &name, "0.047", None, &sets);
+        let ck = format!("part{a}{b}.ckpt.h5");
+        let f = hdf5::File::open(d.join(&ck)).unwrap();
+        let width = f.dataset("contacts/history").unwrap().shape()[1];
+        assert_eq!(width, 6, "contact history words in the checkpoint");
+        drop(f);
+        run_with(b, d, &name, "0.1", Some(&ck), &sets);
+        assert_same_run(d, "full.h5", &name, &format!("{a} -> {b} ranks, rolling"));
+    }
+}
+
+#[test]
 fn checkpoint_of_another_case_is_refused() {
     let dir = tmpdir();
     let d = dir.path();

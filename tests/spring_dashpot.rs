@@ -110,6 +110,52 @@ fn sliding_sphere_ends_up_rolling_at_five_sevenths() {
 }
 
 #[test]
+fn rolling_resistance_slows_a_rolling_sphere_at_five_sevenths_mu_r_g() {
+    // a torque mu_r (d/2) m g against a sphere rolling without slipping decelerates it at
+    // 5 mu_r g / 7; once stopped it stays stopped
+    for model in ["constant", "viscous", "sds"] {
+        for mu_r in [0.05, 0.1] {
+            let r = analytic::rolling_resistance(model, mu_r).unwrap();
+            assert!(
+                (r.deceleration / r.expected - 1.0).abs() < 0.02,
+                "{model}, mu_r {mu_r}: decelerates at {} m/s^2, expected {}",
+                r.deceleration,
+                r.expected
+            );
+            assert!(
+                r.speed_late.abs() < 1e-3,
+                "{model}, mu_r {mu_r}: still moving at {} m/s",
+                r.speed_late
+            );
+        }
+    }
+}
+
+#[test]
+fn cohesive_sphere_rests_deeper_as_the_simplified_jkr_balance_says() {
+    let none = analytic::cohesive_rest(0.0).unwrap();
+    assert!(
+        (none.overlap / none.without - 1.0).abs() < 1e-3,
+        "no cohesion: overlap {} against m g / k = {}",
+        none.overlap,
+        none.without
+    );
+    for k_c in [2.0e3, 5.0e3] {
+        let r = analytic::cohesive_rest(k_c).unwrap();
+        assert!(
+            (r.overlap / r.expected - 1.0).abs() < 1e-3,
+            "k_c {k_c}: overlap {} against {}",
+            r.overlap,
+            r.expected
+        );
+        assert!(
+            r.overlap > 1.1 * r.without,
+            "k_c {k_c}: no deeper than without"
+        );
+    }
+}
+
+#[test]
 fn frictionless_cap_exerts_no_tangential_force() {
     // sd_capped has a frictionless cap at +L/2: a spinning particle pressed against it keeps
     // its spin and gains no sideways speed; against the frictional cap at -L/2 it does not.

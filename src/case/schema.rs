@@ -225,6 +225,32 @@ pub enum Tangential {
     History,
 }
 
+/// Rolling resistance of the spring-dashpot family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Rolling {
+    /// No rolling resistance.
+    #[default]
+    None,
+    /// A torque `mu_r R_eff |F_n|` against the rolling (LIGGGHTS `rolling_friction cdt`).
+    Constant,
+    /// `-min(eta |omega_r|, mu_r R_eff |F_n|)` along the rolling (`rolling_viscosity` = eta).
+    Viscous,
+    /// Spring-dashpot-slider (Ai et al. 2011, model C; LAMMPS `rolling sds`).
+    Sds,
+}
+
+/// Cohesion of the spring-dashpot family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Cohesion {
+    /// No cohesion.
+    #[default]
+    None,
+    /// Simplified JKR (LIGGGHTS `cohesion sjkr`): `k_c` times the contact area.
+    Sjkr,
+}
+
 /// Contact model and global physical constants.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -255,6 +281,24 @@ pub struct Model {
     /// value; by default each pair uses its normal dashpot coefficient `2 gamma_n m_eff`.
     #[serde(default)]
     pub gamma_s: Option<f64>,
+    /// Spring-dashpot: rolling resistance, `"none"` (default), `"constant"`, `"viscous"` or
+    /// `"sds"`; each species' `mu_roll` sets its limit.
+    #[serde(default)]
+    pub rolling: Rolling,
+    /// Rolling `"viscous"`: rolling viscosity `eta` (N m s in SI cases).
+    #[serde(default)]
+    pub rolling_viscosity: Option<f64>,
+    /// Rolling `"sds"`: rolling stiffness `k_r / (mu_r^2 k_n)` (default 2.25, Iwashita & Oda).
+    #[serde(default = "default_rolling_stiffness")]
+    pub rolling_stiffness: f64,
+    /// Rolling `"sds"`: rolling dashpot as a fraction of critical damping (default 0.3, Ai et
+    /// al. 2011).
+    #[serde(default = "default_rolling_damping")]
+    pub rolling_damping: f64,
+    /// Spring-dashpot: cohesion, `"none"` (default) or `"sjkr"`; each species'
+    /// `cohesion_energy` sets its strength.
+    #[serde(default)]
+    pub cohesion: Cohesion,
     /// Spring-dashpot, Hertz: Young's modulus `Y` (Pa).
     #[serde(default)]
     pub youngs_modulus: Option<f64>,
@@ -279,6 +323,14 @@ pub struct Model {
 
 fn default_stiffness_ratio() -> f64 {
     2.0 / 7.0
+}
+
+fn default_rolling_stiffness() -> f64 {
+    2.25
+}
+
+fn default_rolling_damping() -> f64 {
+    0.3
 }
 
 fn default_mu_max() -> f64 {
@@ -323,6 +375,20 @@ pub struct Species {
     /// Static friction against the end caps (default `mu_wall`).
     #[serde(default)]
     pub mu_cap: Option<f64>,
+    /// Rolling friction coefficient against the same species (with `model.rolling`; default
+    /// 0). A mixed pair takes the smaller of the two.
+    #[serde(default)]
+    pub mu_roll: Option<f64>,
+    /// Rolling friction coefficient against the walls and caps (default `mu_roll`).
+    #[serde(default)]
+    pub mu_roll_wall: Option<f64>,
+    /// Cohesion energy density `k_c` against the same species (with `model.cohesion`; J/m^3
+    /// in SI cases; default 0). A mixed pair takes the geometric mean `sqrt(k_a k_b)`.
+    #[serde(default)]
+    pub cohesion_energy: Option<f64>,
+    /// Cohesion energy density against the walls and caps (default `cohesion_energy`).
+    #[serde(default)]
+    pub cohesion_energy_wall: Option<f64>,
     /// Share of the particle volume of a poured fill (pour only; shares must add up to 1).
     #[serde(default)]
     pub volume_fraction: Option<f64>,

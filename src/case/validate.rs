@@ -2,7 +2,9 @@
 //! holds it and the reason, all of them at once.
 
 use super::load::CaseError;
-use super::schema::{Arrangement, Case, Ends, Family, InitKind, Normal, Shape, Tangential};
+use super::schema::{
+    Arrangement, Case, Cohesion, Ends, Family, InitKind, Normal, Rolling, Shape, Tangential,
+};
 use crate::physics::law;
 
 /// Fewest time steps per drum rotation accepted: a wall that turns more than 1/20 of a turn
@@ -145,6 +147,18 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                         .into(),
                 );
             }
+            if m.rolling != Rolling::None {
+                c.bad(
+                    "model.rolling",
+                    "rolling resistance is a sub-model of the spring-dashpot family".into(),
+                );
+            }
+            if m.cohesion != Cohesion::None {
+                c.bad(
+                    "model.cohesion",
+                    "cohesion is a sub-model of the spring-dashpot family".into(),
+                );
+            }
         }
         Family::SpringDashpot => {
             c.forbidden(
@@ -214,6 +228,31 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             }
             if let Some(g) = m.gamma_s {
                 c.non_negative("model.gamma_s", g);
+            }
+            match m.rolling {
+                Rolling::Viscous => {
+                    let eta = c.required(
+                        "model.rolling_viscosity",
+                        m.rolling_viscosity,
+                        "by the viscous rolling resistance",
+                    );
+                    if !eta.is_nan() {
+                        c.non_negative("model.rolling_viscosity", eta);
+                    }
+                }
+                other => c.forbidden(
+                    "model.rolling_viscosity",
+                    &m.rolling_viscosity,
+                    if other == Rolling::Sds {
+                        "to the sds rolling resistance (see rolling_stiffness, rolling_damping)"
+                    } else {
+                        "except with rolling = \"viscous\""
+                    },
+                ),
+            }
+            if m.rolling == Rolling::Sds {
+                c.positive("model.rolling_stiffness", m.rolling_stiffness);
+                c.non_negative("model.rolling_damping", m.rolling_damping);
             }
         }
     }
@@ -295,6 +334,33 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
         for (f, v) in [("mu", s.mu), ("mu_wall", s.mu_wall), ("mu_cap", s.mu_cap)] {
             if let Some(v) = v {
                 c.non_negative(&key(f), v);
+            }
+        }
+        let groups = [
+            (
+                m.rolling != Rolling::None,
+                "model.rolling",
+                [("mu_roll", s.mu_roll), ("mu_roll_wall", s.mu_roll_wall)],
+            ),
+            (
+                m.cohesion != Cohesion::None,
+                "model.cohesion",
+                [
+                    ("cohesion_energy", s.cohesion_energy),
+                    ("cohesion_energy_wall", s.cohesion_energy_wall),
+                ],
+            ),
+        ];
+        for (on, model_key, group) in groups {
+            for (f, v) in group {
+                match (v, on) {
+                    (Some(v), true) => c.non_negative(&key(f), v),
+                    (Some(_), false) => c.bad(
+                        &key(f),
+                        format!("has no effect without {model_key} (it is \"none\")"),
+                    ),
+                    (None, _) => {}
+                }
             }
         }
         if let Some(v) = s.volume_fraction {

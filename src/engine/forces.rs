@@ -7,9 +7,11 @@ use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::batch::{
     Batch, BatchLaw, HertzNormal, HistoryTangential, LinearNormal, NormalPart, RapaportBatch,
-    SpringDashpotBatch, ViscousTangential, LANES,
+    SpringDashpotBatch, TangentialPart, ViscousTangential, LANES,
 };
+use crate::physics::cohesion::{CohesionPart, WithCohesion};
 use crate::physics::integrate::min_image;
+use crate::physics::rolling::{RollingPart, WithRolling};
 use crate::physics::rough_wall::is_fixed;
 use crate::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
@@ -67,16 +69,14 @@ pub fn pair_forces_with(
     };
     match *law {
         ContactLaw::Rapaport { gamma_n, .. } => pass.run(isa, &RapaportBatch { gamma_n }, p, nl),
-        ContactLaw::SpringDashpot(SpringDashpot { normal, tangential }) => {
-            match (normal, tangential) {
-                (NormalLaw::Linear { k0, two_gamma }, t) => {
-                    pass.spring_dashpot(isa, LinearNormal { k0, two_gamma }, t, p, nl)
-                }
-                (NormalLaw::Hertz { kh, gamma_h }, t) => {
-                    pass.spring_dashpot(isa, HertzNormal { kh, gamma_h }, t, p, nl)
-                }
+        ContactLaw::SpringDashpot(sd) => match sd.normal {
+            NormalLaw::Linear { k0, two_gamma } => {
+                pass.tangential(isa, LinearNormal { k0, two_gamma }, &sd, p, nl)
             }
-        }
+            NormalLaw::Hertz { kh, gamma_h } => {
+                pass.tangential(isa, HertzNormal { kh, gamma_h }, &sd, p, nl)
+            }
+        },
     }
 }
 
@@ -147,25 +147,49 @@ struct Pass<'a> {
     law: &'a ContactLaw,
 }
 
+// A spring-dashpot law's slots are chosen one at a time, each match turning the run's
+// value into a type, so that the composition is one monomorphised pass.
 impl Pass<'_> {
-    fn spring_dashpot<N: NormalPart>(
+    fn tangential<N: NormalPart>(
         self,
         isa: Isa,
         normal: N,
-        t: TangentialLaw,
+        sd: &SpringDashpot,
         p: &mut Particles,
         nl: &mut NeighborList,
     ) {
-        match t {
+        match sd.tangential {
             TangentialLaw::Viscous { gamma_s } => {
-                let tangential = ViscousTangential { gamma_s };
-                self.run(isa, &SpringDashpotBatch { normal, tangential }, p, nl)
+                self.rolling(isa, normal, ViscousTangential { gamma_s }, sd, p, nl)
             }
             TangentialLaw::History { ratio, dt } => {
-                let tangential = HistoryTangential { ratio, dt };
-                self.run(isa, &SpringDashpotBatch { normal, tangential }, p, nl)
+                self.rolling(isa, normal, HistoryTangential { ratio, dt }, sd, p, nl)
             }
         }
+    }
+
+    fn rolling<N: NormalPart, T: TangentialPart>(
+        self,
+        isa: Isa,
+        normal: N,
+        tangential: T,
+        sd: &SpringDashpot,
+        p: &mut Particles,
+        nl: &mut NeighborList,
+    ) {
+        sd.rolling.visit(Compose {
+            pass: self,
+            isa,
+            law: SpringDashpotBatch {
+                normal,
+                tangential,
+                rolling: (),
+                cohesion: (),
+            },
+            sd,
+            p,
+            nl,
+        })
     }
 
     fn run<L: BatchLaw>(self, isa: Isa, law: &L, p: &mut Particles, nl: &mut NeighborList) {
@@ -234,8 +258,11 @@ impl Pass<'_> {
             m += touches as usize;
             // a pair that has just come apart loses its history: rare, so the branch is
             // predicted well, and the histories of pairs apart are read but not written
-            if L::HISTORY && !touches && nl.hist[k] != [0.0; 3] {
-                nl.hist[k] = [0.0; 3];
+            if L::WORDS > 0 && !touches {
+                let h = &mut nl.hist[k * L::WORDS..(k + 1) * L::WORDS];
+                if h.iter().any(|&x| x != 0.0) {
+                    h.fill(0.0);
+                }
             }
         }
         m
@@ -273,11 +300,11 @@ impl Pass<'_> {
             b.imb[l] = p.inv_mass[c];
             b.gamma_s[l] = fr.gamma_s;
             b.mu[l] = fr.mu;
-            if L::HISTORY {
-                let h = nl.hist[k as usize];
-                for q in 0..3 {
-                    b.hist[q][l] = h[q];
-                }
+            b.mu_roll[l] = fr.mu_roll;
+            b.cohesion[l] = fr.cohesion;
+            let k = k as usize;
+            for (q, &h) in nl.hist[k * L::WORDS..(k + 1) * L::WORDS].iter().enumerate() {
+                b.hist[q][l] = h;
             }
         }
     }
@@ -294,10 +321,65 @@ impl Pass<'_> {
                 p.t[a][q] -= b.torque_a[q][l];
                 p.t[c][q] -= b.torque_b[q][l];
             }
-            if L::HISTORY {
-                nl.hist[k as usize] = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
+            let k = k as usize;
+            for (q, h) in nl.hist[k * L::WORDS..(k + 1) * L::WORDS]
+                .iter_mut()
+                .enumerate()
+            {
+                *h = b.hist[q][l];
             }
         }
+    }
+}
+
+/// A spring-dashpot law being made a type slot by slot: the rolling and cohesion models
+/// turn themselves into types ([`WithRolling`], [`WithCohesion`]), then the pass runs.
+struct Compose<'a, 'b, L> {
+    pass: Pass<'a>,
+    isa: Isa,
+    law: L,
+    sd: &'b SpringDashpot,
+    p: &'b mut Particles,
+    nl: &'b mut NeighborList,
+}
+
+impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling
+    for Compose<'a, 'b, SpringDashpotBatch<N, T, (), ()>>
+{
+    type Out = ();
+    fn with<R: RollingPart>(self, rolling: R) {
+        let l = self.law;
+        let law = SpringDashpotBatch {
+            normal: l.normal,
+            tangential: l.tangential,
+            rolling,
+            cohesion: (),
+        };
+        let sd = self.sd;
+        sd.cohesion.visit(Compose {
+            pass: self.pass,
+            isa: self.isa,
+            law,
+            sd,
+            p: self.p,
+            nl: self.nl,
+        })
+    }
+}
+
+impl<'a, 'b, N: NormalPart, T: TangentialPart, R: RollingPart> WithCohesion
+    for Compose<'a, 'b, SpringDashpotBatch<N, T, R, ()>>
+{
+    type Out = ();
+    fn with<C: CohesionPart>(self, cohesion: C) {
+        let l = self.law;
+        let law = SpringDashpotBatch {
+            normal: l.normal,
+            tangential: l.tangential,
+            rolling: l.rolling,
+            cohesion,
+        };
+        self.pass.run(self.isa, &law, self.p, self.nl)
     }
 }
 
@@ -313,7 +395,10 @@ pub fn pair_forces_reference(
     scale: f64,
 ) {
     let full_size = scale == 1.0;
-    for ((&(a, b), hist), &cut2) in nl.pairs.iter().zip(nl.hist.iter_mut()).zip(&nl.cut2) {
+    let words = law.history_words();
+    let rolling = law.has_rolling();
+    for (k, (&(a, b), &cut2)) in nl.pairs.iter().zip(&nl.cut2).enumerate() {
+        let hist = &mut nl.hist[k * words..(k + 1) * words];
         let (a, b) = (a as usize, b as usize);
         let xa = p.x[a];
         let xb = p.x[b];
@@ -331,8 +416,8 @@ pub fn pair_forces_reference(
             rc * rc
         };
         if r.norm_squared() >= rc2 {
-            if *hist != [0.0; 3] {
-                *hist = [0.0; 3];
+            if hist.iter().any(|&x| x != 0.0) {
+                hist.fill(0.0);
             }
             continue;
         }
@@ -340,8 +425,12 @@ pub fn pair_forces_reference(
         let Some(c) = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist) else {
             continue;
         };
-        let ta = c.n_cross_fs * (0.5 * ba.d);
-        let tb = c.n_cross_fs * (0.5 * bb.d);
+        let mut ta = c.n_cross_fs * (0.5 * ba.d);
+        let mut tb = c.n_cross_fs * (0.5 * bb.d);
+        if rolling {
+            ta -= c.torque_roll;
+            tb += c.torque_roll;
+        }
         for k in 0..3 {
             p.f[a][k] += c.force[k];
             p.f[b][k] -= c.force[k];
@@ -380,7 +469,7 @@ pub fn wall_and_body_forces(
             p.species[i],
             V3::from(p.x[i]),
             &b,
-            &mut p.wall_hist[i],
+            p.wall_hist_mut(i),
         );
         for k in 0..3 {
             p.f[i][k] += load.force[k];

@@ -7,10 +7,10 @@
 //! minimum image of the raw coordinates, so a pair is computed with the same arithmetic
 //! whichever of its particles is the ghost.
 
-use super::neighbor::SavedHistory;
+use super::neighbor::{push_record, read_record, record_words, SavedHistory};
 use super::slabs::Slabs;
 use crate::comm::Comm;
-use crate::particles::{unpack, unpack_ghost, Particles, GHOST_WORDS, PACKED_WORDS, UPDATE_WORDS};
+use crate::particles::{unpack, unpack_ghost, Particles, GHOST_WORDS, UPDATE_WORDS};
 use crate::physics::Materials;
 
 /// Which owned particles were sent as ghosts to each neighbour, and where their copies sit.
@@ -33,9 +33,6 @@ impl Halo {
         (self.send_down.len() + self.send_up.len()) * UPDATE_WORDS * std::mem::size_of::<f64>()
     }
 }
-
-/// Words of one saved contact history in a message: both ids and the vector.
-const HISTORY_WORDS: usize = 5;
 
 /// What a migration moved.
 #[derive(Debug, Clone, Copy, Default)]
@@ -97,6 +94,7 @@ pub fn migrate(
             0
         }
     };
+    let (words, packed) = (p.hist_words, p.packed_words());
     let n_slots = if irregular { slabs.size() } else { 2 };
     let mut parts: Vec<Vec<f64>> = vec![Vec::new(); n_slots];
     let mut leaving: Vec<(u64, usize)> = Vec::with_capacity(sent);
@@ -111,7 +109,7 @@ pub fn migrate(
         .iter()
         .map(|m| {
             let mut v = Vec::with_capacity(m.len() + 1);
-            v.push((m.len() / PACKED_WORDS) as f64);
+            v.push((m.len() / packed) as f64);
             v.extend_from_slice(m);
             v
         })
@@ -126,10 +124,10 @@ pub fn migrate(
                 .ok()
                 .map(|k| leaving[k].1)
         };
-        for &(a, b, h) in saved.iter() {
-            let (sa, sb) = (slot_of(a), slot_of(b));
+        for rec in saved.iter() {
+            let (sa, sb) = (slot_of(rec.0), slot_of(rec.1));
             for slot in [sa, sb.filter(|&s| Some(s) != sa)].into_iter().flatten() {
-                out[slot].extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+                push_record(&mut out[slot], rec, p.hist_words);
                 histories += 1;
             }
         }
@@ -148,12 +146,12 @@ pub fn migrate(
             continue;
         }
         let n = msg[0] as usize;
-        let (parts, hist) = msg[1..].split_at(n * PACKED_WORDS);
-        for rec in parts.chunks_exact(PACKED_WORDS) {
-            p.push_owned(&unpack(rec), mat);
+        let (parts, hist) = msg[1..].split_at(n * packed);
+        for rec in parts.chunks_exact(packed) {
+            p.push_owned(&unpack(rec, words), mat);
         }
-        for rec in hist.chunks_exact(HISTORY_WORDS) {
-            saved.push((rec[0] as u64, rec[1] as u64, [rec[2], rec[3], rec[4]]));
+        for rec in hist.chunks_exact(record_words(words)) {
+            saved.push(read_record(rec, words));
             received_history = true;
         }
     }

@@ -12,8 +12,8 @@
 //! lists (with a search where the list steps back, see [`NeighborList::save_histories`]).
 
 use crate::particles::Particles;
+use crate::physics::contact::History;
 use crate::physics::integrate::min_image;
-use crate::physics::materials::WALLS;
 use crate::physics::rough_wall::is_fixed;
 use crate::physics::{ContactLaw, DrumWalls};
 
@@ -22,16 +22,39 @@ use crate::physics::{ContactLaw, DrumWalls};
 /// volume than 27 cells of `reach` (about 58 % of it for `SPAN = 2`).
 pub const SPAN: usize = 2;
 
-/// Histories of the contacts in force, keyed and sorted by `(id_a, id_b)`, `id_a < id_b`.
-pub type SavedHistory = Vec<(u64, u64, [f64; 3])>;
+/// Histories of the contacts in force, keyed and sorted by `(id_a, id_b)`, `id_a < id_b`
+/// (the first `ContactLaw::history_words` of each [`History`] used).
+pub type SavedHistory = Vec<(u64, u64, History)>;
+
+/// Words of one saved history in a message: both ids, then `words` history words.
+pub const fn record_words(words: usize) -> usize {
+    2 + words
+}
+
+/// Append one saved history to a message (ids as `f64`: exact below 2^53).
+pub fn push_record(buf: &mut Vec<f64>, (a, b, h): &(u64, u64, History), words: usize) {
+    buf.push(*a as f64);
+    buf.push(*b as f64);
+    buf.extend_from_slice(&h[..words]);
+}
+
+/// Decode one saved history written by [`push_record`].
+pub fn read_record(rec: &[f64], words: usize) -> (u64, u64, History) {
+    let mut h = History::default();
+    h[..words].copy_from_slice(&rec[2..2 + words]);
+    (rec[0] as u64, rec[1] as u64, h)
+}
 
 /// The pair list and what is needed to decide when to rebuild it.
 #[derive(Debug, Clone, Default)]
 pub struct NeighborList {
     /// Candidate pairs `(a, b)`, `id[a] < id[b]`, sorted by ids.
     pub pairs: Vec<(u32, u32)>,
-    /// Tangential history of each pair (zero when not in contact).
-    pub hist: Vec<[f64; 3]>,
+    /// History of each pair (zero when not in contact): [`Self::words`] words per pair, in
+    /// list order.
+    pub hist: Vec<f64>,
+    /// History words per pair (the law's `history_words`: 0, 3 or 6).
+    pub words: usize,
     /// Square of each pair's contact distance at full size (the law's cutoff), so that the
     /// force loop rejects a listed pair that does not touch without asking the law.
     pub cut2: Vec<f64>,
@@ -237,8 +260,9 @@ impl NeighborList {
         }
         self.x_build.clear();
         self.x_build.extend_from_slice(&p.x[..p.n_owned]);
+        self.words = law.history_words();
         self.hist.clear();
-        self.hist.resize(self.pairs.len(), [0.0; 3]);
+        self.hist.resize(self.pairs.len() * self.words, 0.0);
     }
 
     /// List the owned mobile particles that may touch a wall before the next build (closer to
@@ -260,7 +284,7 @@ impl NeighborList {
             if walls.near(p.x[i], law.wall_reach(p.diameter[i]) + skin) {
                 self.near_walls.push(i as u32);
             } else {
-                p.wall_hist[i] = [[0.0; 3]; WALLS];
+                p.wall_hist_mut(i).fill(0.0);
             }
         }
     }
@@ -272,12 +296,19 @@ impl NeighborList {
     /// pairs of each copy, so the list is not sorted by ids there. Both copies evaluate the
     /// minimum image of the same raw coordinates and keep the same history, bit for bit.
     pub fn save_histories(&self, p: &Particles) -> SavedHistory {
+        if self.words == 0 {
+            return SavedHistory::new();
+        }
         let mut saved: SavedHistory = self
             .pairs
             .iter()
-            .zip(&self.hist)
-            .filter(|(_, h)| **h != [0.0; 3])
-            .map(|(&(a, b), h)| (p.id[a as usize], p.id[b as usize], *h))
+            .zip(self.hist.chunks_exact(self.words))
+            .filter(|(_, h)| h.iter().any(|&x| x != 0.0))
+            .map(|(&(a, b), h)| {
+                let mut w = History::default();
+                w[..h.len()].copy_from_slice(h);
+                (p.id[a as usize], p.id[b as usize], w)
+            })
             .collect();
         saved.sort_unstable_by_key(|x| (x.0, x.1));
         saved.dedup_by_key(|x| (x.0, x.1));
@@ -287,14 +318,15 @@ impl NeighborList {
     /// Give each pair of a freshly built list its saved history (`saved` sorted by ids, each
     /// contact once); saved contacts without a pair here are dropped.
     pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {
-        if saved.is_empty() {
+        if saved.is_empty() || self.words == 0 {
             return;
         }
+        let words = self.words;
         // one merge of two sorted lists, stepping back by a search where the list is not
         // sorted (the second copy's block of a particle and its own image)
         let mut k = 0;
         let mut last = (0, 0);
-        for (pair, h) in self.pairs.iter().zip(self.hist.iter_mut()) {
+        for (pair, h) in self.pairs.iter().zip(self.hist.chunks_exact_mut(words)) {
             let key = (p.id[pair.0 as usize], p.id[pair.1 as usize]);
             if key < last {
                 k = saved.partition_point(|x| (x.0, x.1) < key);
@@ -304,7 +336,7 @@ impl NeighborList {
                 k += 1;
             }
             if k < saved.len() && (saved[k].0, saved[k].1) == key {
-                *h = saved[k].2;
+                h.copy_from_slice(&saved[k].2[..words]);
             }
         }
     }

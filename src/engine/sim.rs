@@ -3,7 +3,7 @@
 use super::balance;
 use super::forces::{pair_forces, wall_and_body_forces};
 use super::halo::{self, Halo, UpdateBuffers};
-use super::neighbor::{Grid, NeighborList, SavedHistory};
+use super::neighbor::{push_record, read_record, record_words, Grid, NeighborList, SavedHistory};
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
 use crate::case::{Case, Shape};
@@ -182,19 +182,20 @@ impl<'c> Sim<'c> {
             let k = starts.partition_point(|x| x.0 <= id);
             starts.get(k.saturating_sub(1)).map_or(0, |x| x.1)
         };
+        let words = self.p.hist_words;
         let mut to = vec![Vec::new(); size];
-        for (a, b, h) in histories {
-            let (ra, rb) = (holder(a), holder(b));
+        for rec in &histories {
+            let (ra, rb) = (holder(rec.0), holder(rec.1));
             for r in [Some(ra), (rb != ra).then_some(rb)].into_iter().flatten() {
-                to[r].extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+                push_record(&mut to[r], rec, words);
             }
         }
         let got = self.comm.all_to_all(&to);
         drop(to);
         let mut saved: SavedHistory = got
             .iter()
-            .flat_map(|m| m.chunks_exact(5))
-            .map(|r| (r[0] as u64, r[1] as u64, [r[2], r[3], r[4]]))
+            .flat_map(|m| m.chunks_exact(record_words(words)))
+            .map(|r| read_record(r, words))
             .collect();
         saved.sort_unstable_by_key(|x| (x.0, x.1));
         saved.dedup_by_key(|x| (x.0, x.1));
@@ -220,7 +221,7 @@ impl<'c> Sim<'c> {
             sphere: case.drum.shape == Shape::Sphere,
             omega: case.drum.omega,
         };
-        let mut p = Particles::default();
+        let mut p = Particles::new(law::ContactLaw::new(case).history_words());
         let me = comm.rank();
         for s in initial.iter().filter(|s| slabs.owner(s.x[2]) == me) {
             p.push_owned(s, &mat);
@@ -771,7 +772,8 @@ impl<'c> Sim<'c> {
         with_histories: bool,
     ) -> (Vec<ParticleState>, SavedHistory) {
         let shares = self.id_shares();
-        let words = crate::particles::PACKED_WORDS;
+        let words = self.p.packed_words();
+        let hist_words = self.p.hist_words;
         let mut buf = Vec::with_capacity(self.p.n_owned * words);
         for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             self.p.pack(i, &mut buf);
@@ -780,7 +782,7 @@ impl<'c> Sim<'c> {
         drop(buf);
         let mut states: Vec<ParticleState> = mine
             .chunks_exact(words)
-            .map(crate::particles::unpack)
+            .map(|r| crate::particles::unpack(r, hist_words))
             .collect();
         drop(mine);
         // ids are unique: an unstable sort gives the same order, in place
@@ -789,14 +791,15 @@ impl<'c> Sim<'c> {
             return (states, Vec::new());
         }
         let mut buf = Vec::new();
-        for (a, b, h) in self.saved_histories() {
-            buf.extend_from_slice(&[a as f64, b as f64, h[0], h[1], h[2]]);
+        for rec in &self.saved_histories() {
+            push_record(&mut buf, rec, hist_words);
         }
-        let mine = self.to_shares(&buf, 5, |r| r[0] as u64, &shares);
+        let rec = record_words(hist_words);
+        let mine = self.to_shares(&buf, rec, |r| r[0] as u64, &shares);
         drop(buf);
         let mut out: SavedHistory = mine
-            .chunks_exact(5)
-            .map(|r| (r[0] as u64, r[1] as u64, [r[2], r[3], r[4]]))
+            .chunks_exact(rec)
+            .map(|r| read_record(r, hist_words))
             .collect();
         out.sort_unstable_by_key(|x| (x.0, x.1));
         out.dedup_by_key(|x| (x.0, x.1));

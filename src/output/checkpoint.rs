@@ -27,12 +27,17 @@ use crate::comm::Comm;
 use crate::diag::windows::AngleSums;
 use crate::engine::neighbor::SavedHistory;
 use crate::particles::ParticleState;
+use crate::physics::contact::{History, HISTORY_MAX};
 use crate::physics::materials::WALLS;
 use hdf5::types::VarLenUnicode;
 use hdf5::H5Type;
 use ndarray::ArrayView2;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
+
+/// The fewest history words per contact a checkpoint stores (zeros beyond the law's), so
+/// that a law without histories writes the same layout as a tangential spring.
+pub const FILE_WORDS_MIN: usize = 3;
 
 /// The state a run continues from.
 #[derive(Debug, Clone)]
@@ -48,6 +53,9 @@ pub struct Checkpoint {
     pub particles: Vec<ParticleState>,
     /// Contact histories, sorted by ids: this rank's share, as the particles.
     pub histories: SavedHistory,
+    /// History words per contact, wall contacts included (the law's `history_words`; when
+    /// read, the file's width: at least [`FILE_WORDS_MIN`]).
+    pub history_words: usize,
     /// Mobile particles in the whole checkpoint (set when read).
     pub n_particles: u64,
     /// The windows in progress and the particles followed.
@@ -336,8 +344,10 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
 /// free space than that (`statvfs`).
 fn short_of_room(path: &Path, rows: [u64; 2]) -> Option<String> {
     let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    // a particle's row is its full state, a history's its two ids and three words
-    let words = rows[0] * crate::particles::PACKED_WORDS as u64 + rows[1] * 5;
+    // a particle's row is its full state, a history's its two ids and its words (at most)
+    let words = rows[0] * crate::particles::PACKED_WORDS_MAX as u64
+        + rows[1]
+            * crate::engine::neighbor::record_words(crate::physics::contact::HISTORY_MAX) as u64;
     let estimate = previous.max(8 * words);
     let needed = estimate + estimate / 10 + (64 << 10);
     let dir = match path.parent() {
@@ -417,11 +427,12 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
             let rows: Vec<f64> = p.iter().flat_map(get).collect();
             put(name, &rows, 3)?;
         }
+        let fw = ck.history_words.max(FILE_WORDS_MIN);
         let wall: Vec<f64> = p
             .iter()
-            .flat_map(|s| s.wall_hist.iter().flatten().copied())
+            .flat_map(|s| s.wall_hist.iter().flat_map(|h| h[..fw].iter().copied()))
             .collect();
-        put("wall_history", &wall, 3 * WALLS)?;
+        put("wall_history", &wall, WALLS * fw)?;
         drop(wall);
         drop(g);
         let h = &ck.histories;
@@ -431,8 +442,8 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         pario::write_rows(&f, &c, "id_a", &a, 1, rows, true).map_err(on)?;
         let b: Vec<u64> = h.iter().map(|x| x.1).collect();
         pario::write_rows(&f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
-        let hist: Vec<f64> = h.iter().flat_map(|x| x.2).collect();
-        pario::write_rows(&f, &c, "history", &hist, 3, rows, true).map_err(on)?;
+        let hist: Vec<f64> = h.iter().flat_map(|x| x.2[..fw].iter().copied()).collect();
+        pario::write_rows(&f, &c, "history", &hist, fw, rows, true).map_err(on)?;
     }
     pario::close(f).map_err(on)
 }
@@ -499,6 +510,21 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
         }
         Ok(n.unwrap_or(0))
     };
+    // history words per contact: the width of the wall histories (at most what a law keeps)
+    let wall_width = f
+        .dataset("particles/wall_history")
+        .map_err(&e)?
+        .shape()
+        .get(1)
+        .copied()
+        .unwrap_or(0);
+    let fw = wall_width / WALLS;
+    if wall_width % WALLS != 0 || !(FILE_WORDS_MIN..=HISTORY_MAX).contains(&fw) {
+        return Err(format!(
+            "checkpoint {}: its wall histories have {wall_width} columns, not {WALLS} slots of {FILE_WORDS_MIN} to {HISTORY_MAX} words",
+            path.display()
+        ));
+    }
     let n = rows_of(&[
         ("particles/id", 1),
         ("particles/species", 1),
@@ -508,7 +534,7 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
         ("particles/angular_velocity", 3),
         ("particles/force", 3),
         ("particles/torque", 3),
-        ("particles/wall_history", 3 * WALLS),
+        ("particles/wall_history", WALLS * fw),
     ])?;
     let rows = Rows::share(n, rank, size);
     let get = |name: &str, cols: usize, rows: Rows| -> Result<Vec<f64>, String> {
@@ -525,7 +551,7 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
         v3("force")?,
         v3("torque")?,
     );
-    let wall = get("particles/wall_history", 3 * WALLS, rows)?;
+    let wall = get("particles/wall_history", WALLS * fw, rows)?;
     let t3 = |a: &[f64], i: usize| [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
     let particles = (0..id.len())
         .map(|i| {
@@ -539,8 +565,9 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
             );
             s.f = t3(&force, i);
             s.t = t3(&torque, i);
-            for k in 0..WALLS {
-                s.wall_hist[k] = t3(&wall[3 * WALLS * i..], k);
+            for (k, h) in s.wall_hist.iter_mut().enumerate() {
+                let at = (WALLS * i + k) * fw;
+                h[..fw].copy_from_slice(&wall[at..at + fw]);
             }
             s
         })
@@ -549,13 +576,19 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
     let nh = rows_of(&[
         ("contacts/id_a", 1),
         ("contacts/id_b", 1),
-        ("contacts/history", 3),
+        ("contacts/history", fw),
     ])?;
     let hrows = Rows::share(nh, rank, size);
     let a: Vec<u64> = get_rows(&f, path, "contacts/id_a", 1, hrows)?;
     let b: Vec<u64> = get_rows(&f, path, "contacts/id_b", 1, hrows)?;
-    let h = get("contacts/history", 3, hrows)?;
-    let histories = (0..a.len()).map(|i| (a[i], b[i], t3(&h, i))).collect();
+    let h = get("contacts/history", fw, hrows)?;
+    let histories = (0..a.len())
+        .map(|i| {
+            let mut w = History::default();
+            w[..fw].copy_from_slice(&h[fw * i..fw * (i + 1)]);
+            (a[i], b[i], w)
+        })
+        .collect();
     if !f.link_exists("diagnostics") {
         return Err(format!(
             "checkpoint {}: it was written by a tumbler without windowed diagnostics (before 0.2); finish that run with the version that started it",
@@ -569,6 +602,7 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
         samples,
         particles,
         histories,
+        history_words: fw,
         n_particles: n,
         diag,
     })

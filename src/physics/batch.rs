@@ -16,6 +16,10 @@
 //! contact. The spring-dashpot law is composed of a normal part ([`NormalPart`]) and a
 //! tangential part ([`TangentialPart`]), each a small type with one inlined lane function.
 
+use super::cohesion::{CohesionPart, NoCohesion};
+use super::contact::HISTORY_MAX;
+use super::rolling::{inv_inertia_at_surface, NoRolling, RollingPart};
+
 /// Pairs per batch: one AVX-512 register of `f64`, two of AVX2, four of SSE2.
 pub const LANES: usize = 8;
 
@@ -48,13 +52,17 @@ pub struct Batch {
     pub gamma_s: Col,
     /// Static friction coefficient `mu` of the pair's materials.
     pub mu: Col,
-    /// Tangential history (read and written by laws that keep one).
-    pub hist: [Col; 3],
+    /// Rolling friction coefficient `mu_r` of the pair's materials.
+    pub mu_roll: Col,
+    /// Cohesion energy density `k_c` of the pair's materials.
+    pub cohesion: Col,
+    /// History words (the first [`BatchLaw::WORDS`] read and written).
+    pub hist: [Col; HISTORY_MAX],
     /// Force on `a` (`b` receives its negative).
     pub force: [Col; 3],
-    /// `(d_a/2) n x f_s`, subtracted from the torque of `a`.
+    /// `(d_a/2) n x f_s` less the rolling torque, subtracted from the torque of `a`.
     pub torque_a: [Col; 3],
-    /// `(d_b/2) n x f_s`, subtracted from the torque of `b`.
+    /// `(d_b/2) n x f_s` plus the rolling torque, subtracted from the torque of `b`.
     pub torque_b: [Col; 3],
 }
 
@@ -73,7 +81,9 @@ impl Default for Batch {
             imb: one,
             gamma_s: z,
             mu: z,
-            hist: [z; 3],
+            mu_roll: z,
+            cohesion: z,
+            hist: [z; HISTORY_MAX],
             force: [z; 3],
             torque_a: [z; 3],
             torque_b: [z; 3],
@@ -83,8 +93,8 @@ impl Default for Batch {
 
 /// A pair contact law on a batch.
 pub trait BatchLaw: Copy {
-    /// Whether contacts carry a tangential history (`Batch::hist` read and written).
-    const HISTORY: bool;
+    /// History words per contact (the first `WORDS` of `Batch::hist` read and written).
+    const WORDS: usize;
     /// Evaluate every lane of `b`: `b.force`, `b.torque_a`, `b.torque_b` and, with a
     /// history, `b.hist`.
     fn eval(&self, b: &mut Batch);
@@ -103,6 +113,8 @@ struct Lane {
     imb: f64,
     gamma_s: f64,
     mu: f64,
+    mu_roll: f64,
+    cohesion: f64,
 }
 
 impl Batch {
@@ -120,6 +132,8 @@ impl Batch {
             imb: self.imb[l],
             gamma_s: self.gamma_s[l],
             mu: self.mu[l],
+            mu_roll: self.mu_roll[l],
+            cohesion: self.cohesion[l],
         }
     }
 
@@ -137,12 +151,12 @@ impl Batch {
 // Vector helpers with nalgebra's operation order (`dot` = `x + y + z` of the products,
 // `cross` as `Vector3::cross`), so that a lane repeats the scalar laws' arithmetic.
 #[inline(always)]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[inline(always)]
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(super) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -151,17 +165,17 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 #[inline(always)]
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+pub(super) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
 #[inline(always)]
-fn norm(a: [f64; 3]) -> f64 {
+pub(super) fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
 #[inline(always)]
-fn select3(c: bool, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+pub(super) fn select3(c: bool, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         if c { a[0] } else { b[0] },
         if c { a[1] } else { b[1] },
@@ -177,7 +191,7 @@ pub struct RapaportBatch {
 }
 
 impl BatchLaw for RapaportBatch {
-    const HISTORY: bool = false;
+    const WORDS: usize = 0;
 
     #[inline(always)]
     fn eval(&self, b: &mut Batch) {
@@ -268,8 +282,8 @@ impl NormalPart for HertzNormal {
 
 /// The tangential part of a spring-dashpot law, as `SpringDashpot::tangential`.
 pub trait TangentialPart: Copy {
-    /// Whether it keeps a history.
-    const HISTORY: bool;
+    /// History words it keeps (0 or 3).
+    const WORDS: usize;
     /// Tangential force from the sliding velocity `v_s`, updating `hist`.
     #[allow(clippy::too_many_arguments)]
     fn lane(
@@ -292,7 +306,7 @@ pub struct ViscousTangential {
 }
 
 impl TangentialPart for ViscousTangential {
-    const HISTORY: bool = false;
+    const WORDS: usize = 0;
 
     #[inline(always)]
     fn lane(
@@ -319,7 +333,7 @@ pub struct HistoryTangential {
 }
 
 impl TangentialPart for HistoryTangential {
-    const HISTORY: bool = true;
+    const WORDS: usize = 3;
 
     #[inline(always)]
     fn lane(
@@ -358,17 +372,24 @@ impl TangentialPart for HistoryTangential {
     }
 }
 
-/// A spring-dashpot law on a batch: normal part `N`, tangential part `T`.
+/// A spring-dashpot law on a batch: normal part `N`, tangential part `T`, rolling `R` and
+/// cohesion `C`. Each is a type, so a run's composition is one monomorphised loop.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpringDashpotBatch<N, T> {
+pub struct SpringDashpotBatch<N, T, R = NoRolling, C = NoCohesion> {
     /// Normal part.
     pub normal: N,
     /// Tangential part.
     pub tangential: T,
+    /// Rolling resistance.
+    pub rolling: R,
+    /// Cohesion.
+    pub cohesion: C,
 }
 
-impl<N: NormalPart, T: TangentialPart> BatchLaw for SpringDashpotBatch<N, T> {
-    const HISTORY: bool = T::HISTORY;
+impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
+    for SpringDashpotBatch<N, T, R, C>
+{
+    const WORDS: usize = T::WORDS + R::WORDS;
 
     #[inline(always)]
     fn eval(&self, b: &mut Batch) {
@@ -397,17 +418,47 @@ impl<N: NormalPart, T: TangentialPart> BatchLaw for SpringDashpotBatch<N, T> {
             ];
             let mut h = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
             let f_s = self.tangential.lane(n, v_s, f_n, k_n, dash, s.mu, &mut h);
-            if T::HISTORY {
+            if T::WORDS > 0 {
                 for (k, hk) in h.iter().enumerate() {
                     b.hist[k][l] = *hk;
                 }
             }
+            let roll = if R::ACTIVE {
+                // the rolling spring's words follow the tangential spring's
+                let o = T::WORDS;
+                let mut h = [b.hist[o][l], b.hist[o + 1][l], b.hist[o + 2][l]];
+                let w_rel = [s.wa[0] - s.wb[0], s.wa[1] - s.wb[1], s.wa[2] - s.wb[2]];
+                let inv_ir =
+                    inv_inertia_at_surface(s.ima, s.da) + inv_inertia_at_surface(s.imb, s.db);
+                let t = self
+                    .rolling
+                    .lane(n, w_rel, f_n, k_n, r_eff, inv_ir, s.mu_roll, &mut h);
+                if R::WORDS > 0 {
+                    for (k, hk) in h.iter().enumerate() {
+                        b.hist[o + k][l] = *hk;
+                    }
+                }
+                t
+            } else {
+                [0.0; 3]
+            };
+            let f_tot = if C::ACTIVE {
+                f_n - self.cohesion.lane(s.cohesion, 0.5 * s.da, 0.5 * s.db, rr)
+            } else {
+                f_n
+            };
             let force = [
-                n[0] * f_n + f_s[0],
-                n[1] * f_n + f_s[1],
-                n[2] * f_n + f_s[2],
+                n[0] * f_tot + f_s[0],
+                n[1] * f_tot + f_s[1],
+                n[2] * f_tot + f_s[2],
             ];
             b.put(l, force, cross(n, f_s), s.da, s.db);
+            if R::ACTIVE {
+                for (k, r) in roll.iter().enumerate() {
+                    b.torque_a[k][l] -= r;
+                    b.torque_b[k][l] += r;
+                }
+            }
         }
     }
 }

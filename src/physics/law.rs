@@ -1,10 +1,12 @@
 //! The contact law of a run, chosen once from the case: an enum dispatched per contact,
 //! never a trait object in the inner loop.
 
+use super::cohesion::CohesionLaw;
 use super::contact::{Body, Contact};
 use super::rapaport::{self, Friction, V3};
+use super::rolling::RollingLaw;
 use super::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
-use crate::case::{Case, Family, Normal, Tangential};
+use crate::case::{Case, Family, Normal, Rolling, Tangential};
 use std::f64::consts::PI;
 
 /// Fewest steps per binary contact accepted by the time-step check.
@@ -59,7 +61,14 @@ impl ContactLaw {
                         dt: case.dt(),
                     },
                 };
-                ContactLaw::SpringDashpot(SpringDashpot { normal, tangential })
+                let rolling = RollingLaw::of(case);
+                let cohesion = CohesionLaw::of(case);
+                ContactLaw::SpringDashpot(SpringDashpot {
+                    normal,
+                    tangential,
+                    rolling,
+                    cohesion,
+                })
             }
         }
     }
@@ -68,26 +77,34 @@ impl ContactLaw {
     /// tangent plane and cut back, but not advanced by the sliding of a step.
     pub fn frozen(&self) -> Self {
         match *self {
-            ContactLaw::SpringDashpot(SpringDashpot {
-                normal,
-                tangential: TangentialLaw::History { ratio, .. },
-            }) => ContactLaw::SpringDashpot(SpringDashpot {
-                normal,
-                tangential: TangentialLaw::History { ratio, dt: 0.0 },
-            }),
+            ContactLaw::SpringDashpot(mut sd) => {
+                if let TangentialLaw::History { dt, .. } = &mut sd.tangential {
+                    *dt = 0.0;
+                }
+                sd.rolling = sd.rolling.frozen();
+                ContactLaw::SpringDashpot(sd)
+            }
             other => other,
         }
     }
 
-    /// Whether contacts carry a tangential history.
+    /// Whether contacts carry a history.
     pub fn has_history(&self) -> bool {
-        matches!(
-            self,
-            ContactLaw::SpringDashpot(SpringDashpot {
-                tangential: TangentialLaw::History { .. },
-                ..
-            })
-        )
+        self.history_words() > 0
+    }
+
+    /// Whether contacts exert a rolling-resistance torque.
+    pub fn has_rolling(&self) -> bool {
+        matches!(self, ContactLaw::SpringDashpot(sd) if sd.rolling != RollingLaw::None)
+    }
+
+    /// Words of history per contact (pair or wall): the tangential spring's, then the
+    /// rolling spring's; at most [`super::contact::HISTORY_MAX`].
+    pub fn history_words(&self) -> usize {
+        match self {
+            ContactLaw::Rapaport { .. } => 0,
+            ContactLaw::SpringDashpot(sd) => sd.history_words(),
+        }
     }
 
     /// Centre distance below which two particles interact.
@@ -118,7 +135,7 @@ impl ContactLaw {
         a: &Body,
         b: &Body,
         fr: Friction,
-        hist: &mut [f64; 3],
+        hist: &mut [f64],
     ) -> Option<Contact> {
         match self {
             ContactLaw::Rapaport { gamma_n, .. } => {
@@ -129,15 +146,16 @@ impl ContactLaw {
     }
 
     /// Contact of `p` with a wall: `r` from the wall point to the centre, `v_wall` the wall's
-    /// velocity there.
+    /// velocity there, `w_wall` its angular velocity.
     #[inline]
     pub fn wall(
         &self,
         r: V3,
         p: &Body,
         v_wall: V3,
+        w_wall: V3,
         fr: Friction,
-        hist: &mut [f64; 3],
+        hist: &mut [f64],
     ) -> Option<Contact> {
         match self {
             ContactLaw::Rapaport {
@@ -152,7 +170,7 @@ impl ContactLaw {
                 *gamma_n,
                 fr,
             ),
-            ContactLaw::SpringDashpot(sd) => sd.wall(r, p, v_wall, fr, hist),
+            ContactLaw::SpringDashpot(sd) => sd.wall(r, p, v_wall, w_wall, fr, hist),
         }
     }
 }
@@ -258,6 +276,20 @@ pub fn step_limits(case: &Case) -> StepLimits {
     // (the rotational inertia of a sphere adds 5/2 to the tangential effective mass's inverse).
     if m.family == Family::SpringDashpot && m.tangential == Tangential::History {
         let factor = (3.5 * m.stiffness_ratio).sqrt();
+        if factor > 1.0 {
+            t_min /= factor;
+        }
+    }
+    // The rolling spring of a sphere on a wall, `k_r = s mu_r^2 k_n` against the rolling mass
+    // `I_r / R^2 = 7 m / 5` about the contact point, oscillates `sqrt(5 s mu_r^2 / 7)` times
+    // as fast as the normal spring with mass `m` (pairs are slower).
+    if m.family == Family::SpringDashpot && m.rolling == Rolling::Sds {
+        let mu_r = case
+            .species
+            .iter()
+            .flat_map(|s| [s.mu_roll.unwrap_or(0.0), s.mu_roll_wall.unwrap_or(0.0)])
+            .fold(0.0, f64::max);
+        let factor = (5.0 * m.rolling_stiffness * mu_r * mu_r / 7.0).sqrt();
         if factor > 1.0 {
             t_min /= factor;
         }

@@ -4,7 +4,11 @@
 //! each family (particle-particle, particle-wall) in the ratio of the corresponding
 //! `gamma_s`, the largest being `mu_max` (0.5); explicit `mu` / `mu_wall` override the rule.
 //! Spring-dashpot family: each species' `mu`, `mu_wall` (default `mu`) and `mu_cap` (default
-//! `mu_wall`); a mixed pair takes the smaller `mu`. A frictionless cap has no friction at all.
+//! `mu_wall`); a mixed pair takes the smaller `mu`. Rolling friction (`mu_roll`, against the
+//! walls `mu_roll_wall`, default `mu_roll`) mixes as `mu` does, by the smaller; cohesion
+//! energy densities (`cohesion_energy`, `cohesion_energy_wall`) by the geometric mean
+//! `sqrt(k_a k_b)` (the Berthelot rule for a work of adhesion; a pair of one species keeps
+//! its value exactly). A frictionless cap has no friction, rolling friction or cohesion.
 
 use super::rapaport::Friction;
 use crate::case::{CapSurface, Case, Family};
@@ -51,12 +55,15 @@ impl Materials {
                 (None, false) => 0.0,
             })
             .collect();
+        let mix = |ka: f64, kb: f64| if ka == kb { ka } else { (ka * kb).sqrt() };
         let mut pair = Vec::with_capacity(n * n);
         for a in 0..n {
             for b in 0..n {
                 pair.push(Friction {
                     gamma_s: g(sp[a].gamma_s).min(g(sp[b].gamma_s)),
                     mu: mu_self[a].min(mu_self[b]),
+                    mu_roll: g(sp[a].mu_roll).min(g(sp[b].mu_roll)),
+                    cohesion: mix(g(sp[a].cohesion_energy), g(sp[b].cohesion_energy)),
                 });
             }
         }
@@ -72,15 +79,14 @@ impl Materials {
                 let curved = Friction {
                     gamma_s: g(s.gamma_s_wall),
                     mu: mu_wall,
+                    mu_roll: s.mu_roll_wall.unwrap_or(g(s.mu_roll)),
+                    cohesion: s.cohesion_energy_wall.unwrap_or(g(s.cohesion_energy)),
                 };
                 let cap = Friction {
-                    gamma_s: curved.gamma_s,
                     mu: s.mu_cap.unwrap_or(mu_wall),
+                    ..curved
                 };
-                let none = Friction {
-                    gamma_s: 0.0,
-                    mu: 0.0,
-                };
+                let none = Friction::sliding(0.0, 0.0);
                 let surface = |c: CapSurface| {
                     if c == CapSurface::Frictional {
                         cap

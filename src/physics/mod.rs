@@ -2,11 +2,13 @@
 //! Nothing here speaks MPI or does I/O.
 
 pub mod batch;
+pub mod cohesion;
 pub mod contact;
 pub mod integrate;
 pub mod law;
 pub mod materials;
 pub mod rapaport;
+pub mod rolling;
 pub mod rough_wall;
 pub mod spring_dashpot;
 pub mod walls;

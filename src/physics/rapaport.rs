@@ -25,13 +25,32 @@ pub fn cutoff(d_ij: f64) -> f64 {
     CUTOFF_FACTOR * d_ij
 }
 
-/// Friction coefficients of one pair of materials.
+/// The surface coefficients of one pair of materials (or a material and a wall): sliding
+/// and static friction, and for the spring-dashpot family's optional sub-models rolling
+/// friction and cohesion.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Friction {
     /// Sliding friction coefficient `gamma_s`.
     pub gamma_s: f64,
     /// Static friction coefficient `mu` (Coulomb cap).
     pub mu: f64,
+    /// Rolling friction coefficient `mu_r`: the rolling torque is at most `mu_r R_eff |F_n|`.
+    pub mu_roll: f64,
+    /// Cohesion energy density `k_c` (simplified JKR: an attraction `k_c A` over the contact
+    /// area `A`).
+    pub cohesion: f64,
+}
+
+impl Friction {
+    /// Sliding and static friction only (no rolling friction, no cohesion).
+    pub const fn sliding(gamma_s: f64, mu: f64) -> Self {
+        Friction {
+            gamma_s,
+            mu,
+            mu_roll: 0.0,
+            cohesion: 0.0,
+        }
+    }
 }
 
 /// Magnitude of the repulsion of eq. (1) at distance `r` for effective diameter `d_ij`
@@ -97,6 +116,7 @@ pub fn pair(
     Some(Contact {
         force: n * f_n + f_s,
         n_cross_fs: n.cross(&f_s),
+        torque_roll: V3::zeros(),
     })
 }
 
@@ -130,6 +150,7 @@ pub fn wall(
     Some(Contact {
         force: n * f_n + f_s,
         n_cross_fs: n.cross(&f_s),
+        torque_roll: V3::zeros(),
     })
 }
 

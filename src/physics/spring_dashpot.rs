@@ -8,10 +8,16 @@
 //! (eqs. 2.17-2.18), turned into the current tangent plane every step and cut back to the
 //! Coulomb limit while sliding.
 //!
+//! Two optional sub-models complete a contact, in the manner of LAMMPS' `pair granular`:
+//! rolling resistance ([`super::rolling`]) and cohesion ([`super::cohesion`]). A contact's
+//! history words are the tangential spring's, then the rolling spring's.
+//!
 //! Conventions as in [`super::rapaport`]: `r = x_a - x_b`, `n = r/|r|`, force on `a`.
 
+use super::cohesion::CohesionLaw;
 use super::contact::{Body, Contact};
 use super::rapaport::{Friction, V3};
+use super::rolling::{inv_inertia_at_surface, RollingLaw};
 
 /// Normal force law.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,13 +56,18 @@ pub enum TangentialLaw {
     },
 }
 
-/// A spring-dashpot law: one normal and one tangential part.
+/// A spring-dashpot law: a normal and a tangential part, and the optional rolling and
+/// cohesion sub-models.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpringDashpot {
     /// Normal part.
     pub normal: NormalLaw,
     /// Tangential part.
     pub tangential: TangentialLaw,
+    /// Rolling resistance.
+    pub rolling: RollingLaw,
+    /// Cohesion.
+    pub cohesion: CohesionLaw,
 }
 
 impl SpringDashpot {
@@ -89,7 +100,7 @@ impl SpringDashpot {
         k_n: f64,
         dash: f64,
         fr: Friction,
-        hist: &mut [f64; 3],
+        hist: &mut [f64],
     ) -> V3 {
         let cap = fr.mu * f_n.abs();
         match self.tangential {
@@ -103,7 +114,7 @@ impl SpringDashpot {
             }
             TangentialLaw::History { ratio, dt } => {
                 let k_s = ratio * k_n;
-                let old = V3::from(*hist);
+                let old = V3::new(hist[0], hist[1], hist[2]);
                 // turn the stored displacement into the current tangent plane, keeping its length
                 let mut beta = old - n * n.dot(&old);
                 let (l_old, l_new) = (old.norm(), beta.norm());
@@ -118,9 +129,22 @@ impl SpringDashpot {
                     f_s *= cap / mag;
                     beta = f_s * (-1.0 / k_s);
                 }
-                *hist = [beta.x, beta.y, beta.z];
+                hist[..3].copy_from_slice(&[beta.x, beta.y, beta.z]);
                 f_s
             }
+        }
+    }
+
+    /// Words of history of a contact: the tangential spring's, then the rolling spring's.
+    pub fn history_words(&self) -> usize {
+        self.tangential_words() + self.rolling.history_words()
+    }
+
+    fn tangential_words(&self) -> usize {
+        if matches!(self.tangential, TangentialLaw::History { .. }) {
+            3
+        } else {
+            0
         }
     }
 
@@ -133,12 +157,12 @@ impl SpringDashpot {
         a: &Body,
         b: &Body,
         fr: Friction,
-        hist: &mut [f64; 3],
+        hist: &mut [f64],
     ) -> Option<Contact> {
         let d_ab = 0.5 * (a.d + b.d);
         let r2 = r.norm_squared();
         if r2 >= d_ab * d_ab {
-            *hist = [0.0; 3];
+            hist.fill(0.0);
             return None;
         }
         let rr = r2.sqrt();
@@ -152,28 +176,46 @@ impl SpringDashpot {
         // eq. 2.16: sliding velocity with both spins
         let w_eff = (a.w * a.d + b.w * b.d) * inv_d;
         let v_s = v - n * vn - w_eff.cross(&r);
-        let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, hist);
+        let tw = self.tangential_words();
+        let (h_t, h_r) = hist.split_at_mut(tw);
+        let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, h_t);
+        let torque_roll = if self.rolling == RollingLaw::None {
+            V3::zeros()
+        } else {
+            let r_eff = 0.5 * a.d * b.d * inv_d;
+            let inv_ir =
+                inv_inertia_at_surface(a.inv_mass, a.d) + inv_inertia_at_surface(b.inv_mass, b.d);
+            self.rolling
+                .torque(n, a.w - b.w, f_n, k_n, r_eff, inv_ir, fr, h_r)
+        };
+        let f_tot = match self.cohesion {
+            CohesionLaw::None => f_n,
+            c => f_n - c.attraction(fr.cohesion, 0.5 * a.d, Some(0.5 * b.d), rr),
+        };
         Some(Contact {
-            force: n * f_n + f_s,
+            force: n * f_tot + f_s,
             n_cross_fs: n.cross(&f_s),
+            torque_roll,
         })
     }
 
     /// Contact with a wall of infinite mass and radius: `r` from the wall point to the centre
-    /// (`|r|` = distance), `v_wall` the wall's velocity there.
+    /// (`|r|` = distance), `v_wall` the wall's velocity there and `w_wall` its angular
+    /// velocity.
     #[inline]
     pub fn wall(
         &self,
         r: V3,
         p: &Body,
         v_wall: V3,
+        w_wall: V3,
         fr: Friction,
-        hist: &mut [f64; 3],
+        hist: &mut [f64],
     ) -> Option<Contact> {
         let half = 0.5 * p.d;
         let r2 = r.norm_squared();
         if r2 >= half * half || r2 == 0.0 {
-            *hist = [0.0; 3];
+            hist.fill(0.0);
             return None;
         }
         let rr = r2.sqrt();
@@ -185,10 +227,24 @@ impl SpringDashpot {
         let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || half);
         // the particle's surface point at the contact moves with v - (d/2) w x n
         let v_s = v - n * vn - p.w.cross(&n) * half;
-        let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, hist);
+        let tw = self.tangential_words();
+        let (h_t, h_r) = hist.split_at_mut(tw);
+        let f_s = self.tangential(n, v_s, f_n, k_n, dash, fr, h_t);
+        let torque_roll = if self.rolling == RollingLaw::None {
+            V3::zeros()
+        } else {
+            let inv_ir = inv_inertia_at_surface(p.inv_mass, p.d);
+            self.rolling
+                .torque(n, p.w - w_wall, f_n, k_n, half, inv_ir, fr, h_r)
+        };
+        let f_tot = match self.cohesion {
+            CohesionLaw::None => f_n,
+            c => f_n - c.attraction(fr.cohesion, half, None, rr),
+        };
         Some(Contact {
-            force: n * f_n + f_s,
+            force: n * f_tot + f_s,
             n_cross_fs: n.cross(&f_s),
+            torque_roll,
         })
     }
 }

@@ -49,7 +49,8 @@ impl DrumWalls {
     }
 
     /// Sum of the wall forces on a particle at `x` (curved wall or sphere first, then the cap
-    /// at `-L/2`, then at `+L/2`), updating its wall histories `hist`.
+    /// at `-L/2`, then at `+L/2`), updating its wall histories `hist` ([`WALLS`] slots of
+    /// the law's history words, one after the other).
     #[inline]
     pub fn load(
         &self,
@@ -58,17 +59,25 @@ impl DrumWalls {
         species: u8,
         x: V3,
         body: &Body,
-        hist: &mut [[f64; 3]; WALLS],
+        hist: &mut [f64],
     ) -> WallLoad {
         let reach = law.wall_reach(body.d);
         let mut out = WallLoad {
             force: V3::zeros(),
             torque: V3::zeros(),
         };
-        let mut touch = |wall: Wall, r: V3, v_wall: V3, hist: &mut [f64; 3]| {
-            if let Some(c) = law.wall(r, body, v_wall, mat.wall(species, wall), hist) {
+        let words = hist.len() / WALLS;
+        let (h0, rest) = hist.split_at_mut(words);
+        let (h1, h2) = rest.split_at_mut(words);
+        let w_wall = V3::new(0.0, 0.0, self.omega);
+        let rolling = law.has_rolling();
+        let mut touch = |wall: Wall, r: V3, v_wall: V3, hist: &mut [f64]| {
+            if let Some(c) = law.wall(r, body, v_wall, w_wall, mat.wall(species, wall), hist) {
                 out.force += c.force;
                 out.torque -= c.n_cross_fs * (0.5 * body.d);
+                if rolling {
+                    out.torque += c.torque_roll;
+                }
             }
         };
 
@@ -79,9 +88,9 @@ impl DrumWalls {
                 let rho = rho2.sqrt();
                 let s = self.radius / rho;
                 let v_wall = V3::new(-x.y * s, x.x * s, 0.0) * self.omega;
-                touch(Wall::Curved, x * (1.0 - s), v_wall, &mut hist[0]);
+                touch(Wall::Curved, x * (1.0 - s), v_wall, h0);
             } else {
-                hist[0] = [0.0; 3];
+                h0.fill(0.0);
             }
             return out;
         }
@@ -94,29 +103,24 @@ impl DrumWalls {
             let s = self.radius / rho;
             let radial = V3::new(x.x, x.y, 0.0);
             let v_wall = V3::new(-x.y * s, x.x * s, 0.0) * self.omega;
-            touch(Wall::Curved, radial * (1.0 - s), v_wall, &mut hist[0]);
+            touch(Wall::Curved, radial * (1.0 - s), v_wall, h0);
         } else {
-            hist[0] = [0.0; 3];
+            h0.fill(0.0);
         }
 
         if self.capped {
             let v_wall = V3::new(-x.y, x.x, 0.0) * self.omega;
             let h_low = x.z + self.half_length;
             if h_low < reach {
-                touch(Wall::CapLow, V3::new(0.0, 0.0, h_low), v_wall, &mut hist[1]);
+                touch(Wall::CapLow, V3::new(0.0, 0.0, h_low), v_wall, h1);
             } else {
-                hist[1] = [0.0; 3];
+                h1.fill(0.0);
             }
             let h_high = self.half_length - x.z;
             if h_high < reach {
-                touch(
-                    Wall::CapHigh,
-                    V3::new(0.0, 0.0, -h_high),
-                    v_wall,
-                    &mut hist[2],
-                );
+                touch(Wall::CapHigh, V3::new(0.0, 0.0, -h_high), v_wall, h2);
             } else {
-                hist[2] = [0.0; 3];
+                h2.fill(0.0);
             }
         }
         out

@@ -675,6 +675,7 @@ fn save_checkpoint(
         n_particles: 0,
         particles,
         histories,
+        history_words: sim.law.history_words(),
         diag,
     };
     let written = checkpoint::write(comm, path, &ck);

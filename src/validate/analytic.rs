@@ -197,3 +197,116 @@ pub fn rolling(tangential: &str) -> Result<Rolling, String> {
         spin_ratio: 0.5 * d * sim.p.w[0][0] / v,
     })
 }
+
+/// How a sphere rolling on a floor against rolling resistance slowed down.
+#[derive(Debug, Clone, Copy)]
+pub struct RollingStop {
+    /// Measured deceleration while it rolls (m/s^2), from the speeds at a quarter and at
+    /// half of the time it takes to stop.
+    pub deceleration: f64,
+    /// `5 mu_r g / 7`: a constant rolling torque `mu_r (d/2) m g` against a sphere rolling
+    /// without slipping (`I = m d^2 / 10` about its centre).
+    pub expected: f64,
+    /// Its speed after twice the time it would take to stop (0 when it has stopped).
+    pub speed_late: f64,
+}
+
+/// Launch a 4 mm sphere rolling without slipping at 0.3 m/s along the axis on the bottom of
+/// a wide drum (mu = 0.5, g = 9.8) with the rolling model `rolling` (`"constant"`,
+/// `"viscous"`, `"sds"`) and `mu_r`, and measure how fast it slows down.
+pub fn rolling_resistance(rolling: &str, mu_r: f64) -> Result<RollingStop, String> {
+    let mut sets = vec![
+        "model.tangential=\"history\"".into(),
+        format!("model.rolling=\"{rolling}\""),
+        "model.gravity=9.8".into(),
+        "drum.diameter=2.0".into(),
+        "drum.length=4.0".into(),
+        "species.0.mu=0.5".into(),
+        format!("species.0.mu_roll={mu_r}"),
+    ];
+    if rolling == "viscous" {
+        // viscous enough to sit at the cap throughout
+        sets.push("model.rolling_viscosity=1.0".into());
+    }
+    let case = stage(&sets)?;
+    let (d, g, v0) = (0.004, 9.8, 0.3);
+    let radius = 0.5 * case.drum.diameter;
+    let mut a = ball(0, d, [0.0, -(radius - 0.5 * d), -1.5], [0.0, 0.0, v0]);
+    // rolling along +z on the floor at -y: w_x = v / (d/2)
+    a.w = [v0 / (0.5 * d), 0.0, 0.0];
+    let mut sim = Sim::new(&case, &SerialComm, &[a]).map_err(|e| e.to_string())?;
+    let expected = 5.0 * mu_r * g / 7.0;
+    let t_stop = v0 / expected;
+    let speed_at = |t: f64, sim: &mut Sim| {
+        while (sim.step as f64) * sim.dt < t {
+            sim.step();
+        }
+        sim.p.v[0][2]
+    };
+    let v1 = speed_at(0.25 * t_stop, &mut sim);
+    let v2 = speed_at(0.5 * t_stop, &mut sim);
+    let speed_late = speed_at(2.0 * t_stop, &mut sim);
+    Ok(RollingStop {
+        deceleration: (v1 - v2) / (0.25 * t_stop),
+        expected,
+        speed_late,
+    })
+}
+
+/// Where a cohesive sphere came to rest on a floor.
+#[derive(Debug, Clone, Copy)]
+pub struct CohesiveRest {
+    /// Its overlap with the floor at rest.
+    pub overlap: f64,
+    /// The overlap at which the linear spring balances gravity plus the simplified-JKR
+    /// attraction `k_c pi ((d/2)^2 - (d/2 - delta)^2)`.
+    pub expected: f64,
+    /// The overlap without cohesion (`m g / k`).
+    pub without: f64,
+}
+
+/// Set a 2 mm sphere on the bottom of a wide drum under gravity with cohesion energy
+/// density `k_c` (simplified JKR) and let it settle.
+pub fn cohesive_rest(k_c: f64) -> Result<CohesiveRest, String> {
+    let case = stage(&[
+        "model.cohesion=\"sjkr\"".into(),
+        "model.gravity=9.8".into(),
+        "model.restitution=0.3".into(),
+        "drum.diameter=2.0".into(),
+        format!("species.0.cohesion_energy={k_c}"),
+    ])?;
+    let d = 0.002;
+    let radius = 0.5 * case.drum.diameter;
+    let a = ball(0, d, [0.0, -(radius - 0.5 * d), 0.0], [0.0; 3]);
+    let mut sim = Sim::new(&case, &SerialComm, &[a]).map_err(|e| e.to_string())?;
+    let tc = case.model.collision_time.unwrap_or(f64::NAN);
+    while (sim.step as f64) * sim.dt < 200.0 * tc {
+        sim.step();
+    }
+    let y = sim.p.x[0][1];
+    let overlap = 0.5 * d - (radius + y);
+    // the linear law's spring m (pi^2/t_c^2 + gamma^2) (a wall: m_eff = m)
+    let e = case.model.restitution.unwrap_or(1.0);
+    let gamma = -e.ln() / tc;
+    let m = case.model.density * std::f64::consts::PI / 6.0 * d * d * d;
+    let k = m * ((std::f64::consts::PI / tc).powi(2) + gamma * gamma);
+    let (g, r) = (case.model.gravity, 0.5 * d);
+    let balance = |delta: f64| {
+        k * delta - m * g - k_c * std::f64::consts::PI * (r * r - (r - delta) * (r - delta))
+    };
+    // bisection on [0, r/2]: the spring wins at depth for any cohesion this test uses
+    let (mut lo, mut hi) = (0.0, 0.5 * r);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if balance(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(CohesiveRest {
+        overlap,
+        expected: 0.5 * (lo + hi),
+        without: m * g / k,
+    })
+}
