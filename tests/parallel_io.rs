@@ -43,6 +43,18 @@ fn datasets(path: &Path, groups: &[&str]) -> Vec<(String, usize, Vec<u8>)> {
     out
 }
 
+/// The storage of dataset `name` of `path`: its chunk shape (`None`: contiguous), whether
+/// it is shuffled and gzipped, and its number of chunks.
+fn storage(path: &Path, name: &str) -> (Option<Vec<usize>>, bool, usize) {
+    use hdf5::filters::Filter;
+    let f = hdf5::File::open(path).unwrap();
+    let ds = f.dataset(name).unwrap();
+    let filters = ds.filters();
+    let gzip = filters.iter().any(|f| matches!(f, Filter::Deflate(_)))
+        && filters.iter().any(|f| matches!(f, Filter::Shuffle));
+    (ds.chunk(), gzip, ds.num_chunks().unwrap_or(0))
+}
+
 fn run(n: usize, out: &Path, rotations: &str, extra: &[&str]) -> std::process::Output {
     let case = case_path("sd_capped.toml");
     let rot = format!("run.rotations={rotations}");
@@ -82,6 +94,21 @@ fn checkpoints_particles_and_snapshots_are_the_same_bytes_on_1_3_and_8_ranks() {
             .iter()
             .any(|x| x.0 == "/contacts/history" && !x.2.is_empty()));
         assert!(file.iter().filter(|x| x.0.ends_with("/position")).count() >= 3);
+        // compressed where not tiny, in the same chunks on any rank count
+        for (path, name) in [
+            (d.join(format!("r{n}.ckpt.h5")), "particles/position"),
+            (d.join(format!("r{n}.ckpt.h5")), "contacts/history"),
+            (out.clone(), "particles/velocity"),
+        ] {
+            let (chunk, gzip, _) = storage(&path, name);
+            let rows = hdf5::File::open(&path)
+                .unwrap()
+                .dataset(name)
+                .unwrap()
+                .shape()[0];
+            assert!(gzip, "{n} ranks: {name} is not compressed");
+            assert_eq!(chunk, Some(vec![rows, 3]), "{n} ranks: {name}'s chunks");
+        }
         match &first {
             None => first = Some((ck, file)),
             Some((ck1, file1)) => {
@@ -193,4 +220,81 @@ fn a_rough_wall_drum_with_histories_restarts_onto_another_rank_count_bit_identic
     for (a, b) in full.iter().zip(&part) {
         assert!(a == b, "3 -> 2 ranks: {} differs", a.0);
     }
+}
+
+#[test]
+fn rows_of_several_compressed_chunks_are_the_same_on_1_2_and_4_ranks_and_restart_exactly() {
+    // A lattice of about 12,400 particles: the position rows (24 bytes) fill two chunks and
+    // the ranks' shares end inside chunks, so several ranks write parts of one compressed
+    // chunk (HDF5 gathers them on one rank to filter it).
+    let dir = tmpdir();
+    let d = dir.path();
+    let case = case_path("periodic.toml");
+    let go = |n: usize, out: &Path, rotations: &str, restart: Option<&Path>| {
+        let rot = format!("run.rotations={rotations}");
+        let mut args = vec![
+            "run",
+            case.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "drum.length=800",
+            "--set",
+            &rot,
+            "--set",
+            "diagnostics.snapshots.every=0.01",
+            "--set",
+            "output.checkpoint_every=0.01",
+        ];
+        if let Some(ck) = restart {
+            args.extend(["--restart", ck.to_str().unwrap()]);
+        }
+        let o = common::mpirun(n, &args);
+        assert!(
+            o.status.success(),
+            "{n} ranks: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    let mut first: Option<(Vec<_>, Vec<_>)> = None;
+    for n in [1, 2, 4] {
+        let out = d.join(format!("r{n}.h5"));
+        go(n, &out, "0.02", None);
+        let ckpt = d.join(format!("r{n}.ckpt.h5"));
+        let (chunk, gzip, chunks) = storage(&ckpt, "particles/position");
+        let rows = hdf5::File::open(&ckpt)
+            .unwrap()
+            .dataset("particles/id")
+            .unwrap()
+            .shape()[0];
+        let per_chunk = tumbler::output::series::CHUNK_BYTES / 24;
+        assert!(rows > per_chunk, "{rows} particles fill one chunk only");
+        assert_eq!(chunk, Some(vec![per_chunk, 3]));
+        assert!(
+            gzip && chunks == rows.div_ceil(per_chunk),
+            "{chunks} chunks"
+        );
+        assert_eq!(
+            storage(&out, "particles/position").0,
+            Some(vec![per_chunk, 3])
+        );
+        let ck = datasets(&ckpt, &["particles"]);
+        let file = datasets(&out, &["particles", "snapshots"]);
+        match &first {
+            None => first = Some((ck, file)),
+            Some((ck1, file1)) => {
+                assert!(ck1 == &ck, "{n} ranks: the checkpoint's rows differ");
+                assert!(file1 == &file, "{n} ranks: the output's rows differ");
+            }
+        }
+    }
+    // half-way on 4 ranks, then on to the end from its checkpoint on 3
+    let part = d.join("part.h5");
+    go(4, &part, "0.01", None);
+    go(3, &part, "0.02", Some(&d.join("part.ckpt.h5")));
+    let full = datasets(&d.join("r1.h5"), &["particles"]);
+    assert!(
+        datasets(&part, &["particles"]) == full,
+        "4 -> 3 ranks: the particles differ from the run never stopped"
+    );
 }

@@ -16,7 +16,9 @@
 //!
 //! The window sums (fixed-point `i128`, stored as their high and low 64-bit halves) are
 //! mostly zeros, for bins no particle reached: they are stored shuffled and gzipped, which
-//! keeps every bit.
+//! keeps every bit. So are the particle and contact rows that are not tiny
+//! (`pario::Storage`: chunks of about 256 KiB, the same on any rank count); their values are
+//! the `f64`/integer words themselves, so a restart stays bit-identical.
 //!
 //! Every dataset carries HDF5's Fletcher32 checksum (HDF5 verifies it on every read) and the
 //! file's metadata is written in the 1.10 format, whose object headers are checksummed too,
@@ -131,7 +133,7 @@ fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
     Ok(())
 }
 
-/// Rows per chunk of a checkpoint dataset (a checksum covers one chunk).
+/// Rows per chunk of a checkpoint dataset written by rank 0 (a checksum covers one chunk).
 const CHUNK_ROWS: usize = 1 << 16;
 
 /// Write `data` (rows of `cols` values) as dataset `name` of `g`: 1-D when `cols` is 1,
@@ -342,9 +344,15 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
 /// clearly cannot: it needs the size of the checkpoint it replaces (or, for the first one,
 /// of its particle and history rows) with a tenth and 64 KiB to spare, and the disk has less
 /// free space than that (`statvfs`).
+///
+/// The rows are stored compressed (`pario::Storage`), so their uncompressed size is an
+/// upper bound of what they take (gzip's worst case, incompressible data in stored blocks,
+/// adds about 5 bytes per 64 KiB, well within the tenth); the previous checkpoint, written
+/// the same way, remains the closer estimate once there is one.
 fn short_of_room(path: &Path, rows: [u64; 2]) -> Option<String> {
     let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    // a particle's row is its full state, a history's its two ids and its words (at most)
+    // a particle's row is its full state, a history's its two ids and its words (at most),
+    // uncompressed
     let words = rows[0] * crate::particles::PACKED_WORDS_MAX as u64
         + rows[1]
             * crate::engine::neighbor::record_words(crate::physics::contact::HISTORY_MAX) as u64;

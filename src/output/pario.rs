@@ -4,12 +4,20 @@
 //!
 //! HDF5's metadata operations (creating the file, a group, a dataset, an attribute) are
 //! collective: every rank calls them with the same arguments. The rows are written with
-//! the collective transfer mode, which chunked datasets with filters (the checkpoints'
-//! Fletcher32 checksums) require in parallel HDF5 (1.10.2 and later); a rank with no rows
-//! takes part with an empty selection. After each write the ranks agree on the outcome
-//! ([`together`]), so that one rank's failure stops every rank before the next collective
-//! call instead of leaving the others waiting in it.
+//! the collective transfer mode, which chunked datasets with filters (the byte shuffle and
+//! gzip, the checkpoints' Fletcher32 checksums) require in parallel HDF5 (1.10.2 and later);
+//! a rank with no rows takes part with an empty selection. After each write the ranks agree
+//! on the outcome ([`together`]), so that one rank's failure stops every rank before the
+//! next collective call instead of leaving the others waiting in it.
+//!
+//! Storage ([`Storage::of`]): a dataset of [`FILTER_MIN_BYTES`] or more is chunked, about
+//! [`CHUNK_BYTES`] per chunk, and stored with the byte shuffle and gzip level
+//! [`GZIP_LEVEL`], as the series are; a smaller one is contiguous (or, checksummed, one
+//! chunk). The chunk shape depends only on the dataset's global row count and row size, so
+//! every rank creates the same dataset. The values are stored as they are (`f64` particle
+//! states, integer ids): gzip keeps every bit, and a restart stays bit-identical.
 
+use super::series::{CHUNK_BYTES, FILTER_MIN_BYTES, GZIP_LEVEL};
 use crate::comm::Comm;
 use hdf5::H5Type;
 use hdf5_sys::h5d::H5Dwrite;
@@ -126,13 +134,50 @@ impl Rows {
     }
 }
 
-/// Rows per chunk of a checksummed dataset (a checksum covers one chunk).
+/// Most rows per chunk (a checksum covers one chunk).
 pub const CHUNK_ROWS: u64 = 1 << 16;
 
+/// How a dataset that every rank writes rows of is stored: a function of the global row
+/// count and the row's size only, so every rank creates the same dataset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Storage {
+    /// Rows per chunk; 0 for a contiguous dataset.
+    pub chunk_rows: u64,
+    /// Byte shuffle and gzip ([`GZIP_LEVEL`]).
+    pub compressed: bool,
+    /// A Fletcher32 checksum per chunk.
+    pub checksum: bool,
+}
+
+impl Storage {
+    /// The storage of a dataset of `total` rows of `row_bytes` bytes; `checksum`: one
+    /// Fletcher32 checksum per chunk (a dataset with rows is then always chunked). Datasets
+    /// of [`FILTER_MIN_BYTES`] or more are compressed, in chunks of about [`CHUNK_BYTES`]
+    /// (at most [`CHUNK_ROWS`] rows); an empty one is contiguous.
+    pub fn of(total: u64, row_bytes: usize, checksum: bool) -> Storage {
+        let row_bytes = row_bytes.max(1) as u64;
+        let compressed = total.saturating_mul(row_bytes) >= FILTER_MIN_BYTES as u64;
+        let chunk_rows = if total == 0 || !(compressed || checksum) {
+            0
+        } else if compressed {
+            (CHUNK_BYTES as u64 / row_bytes)
+                .clamp(1, CHUNK_ROWS)
+                .min(total)
+        } else {
+            total.min(CHUNK_ROWS)
+        };
+        Storage {
+            chunk_rows,
+            compressed: compressed && chunk_rows > 0,
+            checksum: checksum && chunk_rows > 0,
+        }
+    }
+}
+
 /// Create dataset `name` of `rows.total` rows of `cols` values (1-D when `cols` is 1) in `g`
-/// on every rank, and write this rank's `data` (`rows.count` rows) at `rows.offset`.
-/// `checksum`: chunked with a Fletcher32 checksum per chunk (when not empty). The ranks
-/// agree on the outcome before returning.
+/// on every rank, stored as [`Storage::of`] says, and write this rank's `data` (`rows.count`
+/// rows) at `rows.offset`. `checksum`: a Fletcher32 checksum per chunk. The ranks agree on
+/// the outcome before returning.
 pub fn write_rows<T: H5Type>(
     f: &ParFile,
     g: &hdf5::Group,
@@ -167,22 +212,27 @@ fn write_rows_here<T: H5Type>(
         ));
     }
     let total = rows.total as usize;
-    let chunk = rows.total.clamp(1, CHUNK_ROWS) as usize;
-    let b = g.new_dataset::<T>();
+    let storage = Storage::of(rows.total, cols * std::mem::size_of::<T>(), checksum);
+    let mut b = g.new_dataset::<T>();
+    if storage.chunk_rows > 0 {
+        let chunk = storage.chunk_rows as usize;
+        if cols == 1 {
+            b = b.chunk(chunk);
+        } else {
+            b = b.chunk((chunk, cols));
+        }
+        if storage.compressed {
+            b = b.shuffle().deflate(GZIP_LEVEL);
+        }
+        if storage.checksum {
+            // last: the checksum covers the bytes stored, and is verified before inflating
+            b = b.fletcher32();
+        }
+    }
     let ds = if cols == 1 {
-        let b = b.shape(total);
-        if checksum && total > 0 {
-            b.chunk(chunk).fletcher32().create(name)?
-        } else {
-            b.create(name)?
-        }
+        b.shape(total).create(name)?
     } else {
-        let b = b.shape((total, cols));
-        if checksum && total > 0 {
-            b.chunk((chunk, cols)).fletcher32().create(name)?
-        } else {
-            b.create(name)?
-        }
+        b.shape((total, cols)).create(name)?
     };
     let mem_type = hdf5::Datatype::from_type::<T>()?;
     let rank = if cols == 1 { 1 } else { 2 };
@@ -262,5 +312,38 @@ pub fn start_library() {
     unsafe {
         hdf5_sys::h5::H5dont_atexit();
         hdf5_sys::h5::H5open();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn storage_depends_on_the_global_rows_only_and_spares_tiny_datasets() {
+        // tiny: contiguous, or one checksummed chunk
+        let tiny = Storage::of(100, 24, false);
+        assert_eq!((tiny.chunk_rows, tiny.compressed), (0, false));
+        let tiny = Storage::of(100, 24, true);
+        assert_eq!(
+            (tiny.chunk_rows, tiny.compressed, tiny.checksum),
+            (100, false, true)
+        );
+        // empty: contiguous, whatever is asked
+        assert_eq!(Storage::of(0, 24, true).chunk_rows, 0);
+        // not tiny: compressed, in chunks of about CHUNK_BYTES, never more rows than exist
+        let s = Storage::of(1_000_000, 24, true);
+        assert!(s.compressed && s.checksum);
+        assert_eq!(s.chunk_rows, (CHUNK_BYTES / 24) as u64);
+        assert_eq!(Storage::of(2_000, 24, false).chunk_rows, 2_000);
+        assert_eq!(Storage::of(10_000_000, 1, false).chunk_rows, CHUNK_ROWS);
+        assert_eq!(
+            Storage::of(FILTER_MIN_BYTES as u64 / 8, 8, false),
+            Storage {
+                chunk_rows: FILTER_MIN_BYTES as u64 / 8,
+                compressed: true,
+                checksum: false
+            }
+        );
     }
 }
