@@ -169,6 +169,16 @@ impl DrumWalls {
         self.vessel.near(x, reach) || self.lifters.as_ref().is_some_and(|l| l.near(x, reach))
     }
 
+    /// Whether a particle of wall reach `reach` centred at `x` touches a wall now.
+    pub fn touches(&self, x: [f64; 3], reach: f64) -> bool {
+        let v = V3::from(x);
+        self.vessel.contacts(v, reach).iter().any(Option::is_some)
+            || self
+                .lifters
+                .as_ref()
+                .is_some_and(|l| l.contact(v, reach).is_some())
+    }
+
     /// Whether a sphere of radius `margin` at `x` is inside the walls (clear of the lifters
     /// at their present angle).
     pub fn inside(&self, x: [f64; 3], margin: f64) -> bool {
