@@ -180,6 +180,8 @@ fn drum_line(case: &Case, walls: &crate::physics::DrumWalls) -> String {
             d.diameter_high.unwrap_or(d.diameter),
             d.axial_length()
         ),
+        #[allow(unreachable_patterns)]
+        other => format!("{other:?} D = {} L = {}", d.diameter, d.axial_length()),
     };
     if let Some(l) = &walls.lifters {
         let gap = if l.count >= 2 {

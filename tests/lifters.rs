@@ -12,7 +12,7 @@ use tumbler::comm::SerialComm;
 use tumbler::engine::{thermo, Sim};
 use tumbler::init::{initial_particles, pour, Share};
 use tumbler::particles::ParticleState;
-use tumbler::physics::walls::{wall_velocity, Cone, DrumWalls, Vessel};
+use tumbler::physics::walls::{wall_velocity, Cone, DrumWalls};
 use tumbler::physics::V3;
 
 fn drum(text: &str) -> Drum {

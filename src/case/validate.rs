@@ -97,8 +97,8 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             );
             c.forbidden("drum.ends", &d.ends, "to a sphere");
         }
-        // its keys are checked with the vessel (physics/walls/cone.rs)
-        Shape::Cone => {}
+        // other shapes' keys are checked with their vessel (physics/walls/)
+        _ => {}
     }
     let wall_reach = {
         let largest = case
