@@ -36,6 +36,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let per_species = count_by_species(case)?;
     let made: u64 = per_species.iter().sum();
     let radius = 0.5 * case.drum.diameter;
+    let walls = crate::physics::DrumWalls::of(&case.drum);
     let poured = case.init.kind == InitKind::Pour;
     // A pour keeps the part below the cut: estimate it by volume, for a bed packed at 0.6.
     let kept = if poured {
@@ -58,6 +59,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let mem = (n as f64 / ranks as f64 + ghosts_per_rank) * BYTES_PER_PARTICLE as f64;
 
     let _ = writeln!(out, "case           {}", case.title);
+    let _ = writeln!(out, "drum           {}", drum_line(case, &walls));
     if poured {
         let _ = writeln!(
             out,
@@ -68,7 +70,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         let _ = writeln!(
             out,
             "cut height     y = {:.5}",
-            pour::cut_height(case.drum.shape, radius, case.init.fill.unwrap_or(0.0))
+            walls.cut_height(case.init.fill.unwrap_or(0.0))
         );
     } else {
         let _ = writeln!(out, "particles      {n}");
@@ -159,4 +161,40 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         g.sample_every
     );
     Ok(out)
+}
+
+/// The drum's shape, size and volume, and its lifters, for `tumbler check`.
+fn drum_line(case: &Case, walls: &crate::physics::DrumWalls) -> String {
+    let d = &case.drum;
+    let mut s = match d.shape {
+        crate::case::Shape::Cylinder => format!(
+            "cylinder D = {} L = {} ({} ends)",
+            d.diameter,
+            d.axial_length(),
+            if d.periodic() { "periodic" } else { "capped" }
+        ),
+        crate::case::Shape::Sphere => format!("sphere D = {}", d.diameter),
+        crate::case::Shape::Cone => format!(
+            "cone D = {} at z = -L/2 to {} at z = +L/2, L = {}",
+            d.diameter,
+            d.diameter_high.unwrap_or(d.diameter),
+            d.axial_length()
+        ),
+        #[allow(unreachable_patterns)]
+        other => format!("{other:?} D = {} L = {}", d.diameter, d.axial_length()),
+    };
+    if let Some(l) = &walls.lifters {
+        let gap = if l.count >= 2 {
+            2.0 * l.tip * (std::f64::consts::PI / l.count as f64).sin() - l.thickness
+        } else {
+            f64::INFINITY
+        };
+        let _ = write!(
+            s,
+            "; {} lifters {} high, {} thick, {:.4e} apart at the tips",
+            l.count, l.height, l.thickness, gap
+        );
+    }
+    let _ = write!(s, "; volume {:.4e}", walls.volume());
+    s
 }

@@ -119,6 +119,9 @@ pub enum Shape {
     Cylinder,
     /// A sphere (axial slabs along `z` all the same).
     Sphere,
+    /// A cone (frustum) along `z`, capped: diameter `diameter` at `z = -L/2`, narrowing
+    /// linearly to `diameter_high` at `z = +L/2`.
+    Cone,
 }
 
 /// Surface of an end cap.
@@ -136,12 +139,17 @@ pub enum CapSurface {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Drum {
-    /// `"cylinder"` (default) or `"sphere"`.
+    /// `"cylinder"` (default), `"sphere"` or `"cone"`.
     #[serde(default)]
     pub shape: Shape,
-    /// Inner diameter `D` of the curved wall (of the sphere).
+    /// Inner diameter `D` of the curved wall (of the sphere; of a cone at `z = -L/2`, its
+    /// widest).
     pub diameter: f64,
-    /// Length `L` of a cylinder along the axis (from `-L/2` to `L/2`); a sphere has none.
+    /// A cone's inner diameter at `z = +L/2` (at most `diameter`).
+    #[serde(default)]
+    pub diameter_high: Option<f64>,
+    /// Length `L` of a cylinder or cone along the axis (from `-L/2` to `L/2`); a sphere has
+    /// none.
     #[serde(default)]
     pub length: Option<f64>,
     /// `"periodic"` or `"capped"` (cylinders only).
@@ -158,6 +166,28 @@ pub struct Drum {
     /// An optional rough curved wall: particles fixed to the turning drum (thesis ch. 3).
     #[serde(default)]
     pub rough_wall: Option<RoughWall>,
+    /// Flat lifters fixed to a cylinder's curved wall, turning with it.
+    #[serde(default)]
+    pub lifters: Option<DrumLifters>,
+}
+
+/// Lifters (flights, baffles): flat plates along the axis fixed to the curved wall, equally
+/// spaced in angle, turning with the drum (`physics/walls/lifters.rs`).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrumLifters {
+    /// How many, equally spaced in angle.
+    pub count: u32,
+    /// Radial height from the wall inward (to the lifter's innermost point).
+    pub height: f64,
+    /// Thickness of a plate (its edges are rounded with half of it).
+    pub thickness: f64,
+    /// Axial span `[low, high]` (default: the whole drum).
+    #[serde(default)]
+    pub span: Option<[f64; 2]>,
+    /// Angle of the first lifter at time zero, from `+x` towards `+y` (radians, default 0).
+    #[serde(default)]
+    pub angle: f64,
 }
 
 /// A curved wall roughened by particles fixed to it: rings of spheres centred on the wall
@@ -173,7 +203,7 @@ impl Drum {
     /// Axial extent: `L` for a cylinder, `D` for a sphere.
     pub fn axial_length(&self) -> f64 {
         match self.shape {
-            Shape::Cylinder => self.length.unwrap_or(0.0),
+            Shape::Cylinder | Shape::Cone => self.length.unwrap_or(0.0),
             Shape::Sphere => self.diameter,
         }
     }
@@ -183,13 +213,9 @@ impl Drum {
         self.shape == Shape::Cylinder && self.ends == Some(Ends::Periodic)
     }
 
-    /// Volume inside the walls.
+    /// Volume inside the walls (less the lifters').
     pub fn volume(&self) -> f64 {
-        let r = 0.5 * self.diameter;
-        match self.shape {
-            Shape::Cylinder => std::f64::consts::PI * r * r * self.axial_length(),
-            Shape::Sphere => 4.0 / 3.0 * std::f64::consts::PI * r * r * r,
-        }
+        crate::physics::DrumWalls::of(self).volume()
     }
 }
 

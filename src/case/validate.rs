@@ -99,6 +99,19 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             );
             c.forbidden("drum.ends", &d.ends, "to a sphere");
         }
+        // other shapes' keys are checked with their vessel (physics/walls/)
+        _ => {}
+    }
+    let wall_reach = {
+        let largest = case
+            .species
+            .iter()
+            .map(law::largest_diameter)
+            .fold(0.0, f64::max);
+        law::ContactLaw::new(case).wall_reach(largest)
+    };
+    for (key, why) in crate::physics::walls::check(d, wall_reach) {
+        c.bad(&key, why);
     }
     if let Some(rw) = &d.rough_wall {
         if !(rw.diameter.is_finite() && rw.diameter > 0.0 && rw.diameter < 0.25 * d.diameter) {
@@ -107,7 +120,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 format!("must be positive and below D/4, got {}", rw.diameter),
             );
         }
-        if d.shape != Shape::Cylinder {
+        if d.shape == Shape::Sphere {
             c.bad(
                 "drum.rough_wall",
                 "a rough wall lines a cylinder's curved wall; a sphere has none".into(),
@@ -411,10 +424,10 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                     ),
                 );
             }
-            if d.shape == Shape::Sphere {
+            if d.shape != Shape::Cylinder {
                 c.bad(
                     "init.kind",
-                    "the lattice fill is for cylinders; use \"pour\" or \"particles\" in a sphere"
+                    "the lattice fill is for cylinders; use \"pour\" or \"particles\" in a sphere or a cone"
                         .into(),
                 );
             }

@@ -6,7 +6,7 @@ use super::halo::{self, Halo, UpdateBuffers};
 use super::neighbor::{push_record, read_record, record_words, Grid, NeighborList, SavedHistory};
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
-use crate::case::{Case, Shape};
+use crate::case::Case;
 use crate::comm::Comm;
 use crate::particles::{ParticleState, Particles};
 use crate::physics::integrate::{drift, half_kick, min_image};
@@ -146,7 +146,7 @@ impl<'c> Sim<'c> {
             sim.p.push_owned(s, &sim.mat);
         }
         sim.step = step;
-        sim.turn_rough_wall(sim.walls.omega * step as f64 * sim.dt);
+        sim.turn_drum(sim.walls.omega * step as f64 * sim.dt);
         sim.rebuild_with(saved, true);
         Ok(sim)
     }
@@ -209,18 +209,10 @@ impl<'c> Sim<'c> {
         initial: &[ParticleState],
     ) -> Result<Self, DecompositionError> {
         let mat = Materials::new(case);
-        let periodic = case.drum.periodic();
-        let length = case.drum.axial_length();
         slabs_fit(case, comm.size()).map_err(DecompositionError)?;
         let reach = law::reach(case);
         let slabs = initial_slabs(case, comm.size());
-        let walls = DrumWalls {
-            radius: 0.5 * case.drum.diameter,
-            half_length: 0.5 * length,
-            capped: !periodic && case.drum.shape == Shape::Cylinder,
-            sphere: case.drum.shape == Shape::Sphere,
-            omega: case.drum.omega,
-        };
+        let walls = DrumWalls::of(&case.drum);
         let mut p = Particles::new(law::ContactLaw::new(case).history_words());
         let me = comm.rank();
         for s in initial.iter().filter(|s| slabs.owner(s.x[2]) == me) {
@@ -292,7 +284,7 @@ impl<'c> Sim<'c> {
         let (n, p) = (self.p.n_owned, &mut self.p);
         self.timers
             .time(Phase::Integrate, || drift(n, dt, &mut p.x, &p.v, period));
-        self.turn_rough_wall(self.walls.omega * (self.step + 1) as f64 * dt);
+        self.turn_drum(self.walls.omega * (self.step + 1) as f64 * dt);
         // A non-finite position anywhere is carried by the maximum (as infinity) so that
         // every rank stops together with the same message.
         let moved = self.timers.time(Phase::Comm, || {
@@ -383,8 +375,10 @@ impl<'c> Sim<'c> {
         self.timers.add(Phase::Comm, total - wall_secs);
     }
 
-    /// Put the rough wall's particles where the drum has carried them (angle `angle`).
-    fn turn_rough_wall(&mut self, angle: f64) {
+    /// Turn the drum to the angle `angle`: its lifters, and the rough wall's particles
+    /// placed where the drum has carried them.
+    fn turn_drum(&mut self, angle: f64) {
+        self.walls.turn_to(angle);
         let Some(rw) = self.rough else { return };
         let omega = self.walls.omega;
         for i in 0..self.p.n_owned {
@@ -612,7 +606,6 @@ impl<'c> Sim<'c> {
         if let Some(fault) = &self.fault {
             return Err(fault.clone());
         }
-        let (r, half) = (self.walls.radius, self.walls.half_length);
         for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
             let (x, v, w) = (self.p.x[i], self.p.v[i], self.p.w[i]);
             let describe = |what: &str| {
@@ -624,13 +617,7 @@ impl<'c> Sim<'c> {
             if x.iter().chain(&v).chain(&w).any(|c| !c.is_finite()) {
                 return Err(describe("has a non-finite position, velocity or spin"));
             }
-            let rho2 = x[0] * x[0] + x[1] * x[1];
-            let outside = if self.walls.sphere {
-                rho2 + x[2] * x[2] > r * r
-            } else {
-                rho2 > r * r || (self.walls.capped && x[2].abs() > half)
-            };
-            if outside {
+            if !self.walls.inside(x, 0.0) {
                 return Err(describe("has left the drum"));
             }
         }

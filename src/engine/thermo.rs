@@ -107,6 +107,55 @@ pub fn measure(sim: &Sim, gauge: &SurfaceGauge) -> ThermoState {
     }
 }
 
+/// Which owned particles touch something now: a wall, or another particle closer than
+/// the law's interaction range (rough-wall particles included). Read from the state and
+/// the pair list, changing nothing; local to the rank.
+pub fn in_contact(sim: &Sim) -> Vec<bool> {
+    let p = &sim.p;
+    let (pairs, period) = sim.pair_list();
+    let mut touched = vec![false; p.n_owned];
+    for &(a, b) in pairs {
+        let (a, b) = (a as usize, b as usize);
+        let (xa, xb) = (p.x[a], p.x[b]);
+        let mut dz = xa[2] - xb[2];
+        if let Some(l) = period {
+            dz = min_image(dz, l);
+        }
+        let r2 = (xa[0] - xb[0]).powi(2) + (xa[1] - xb[1]).powi(2) + dz * dz;
+        let cut = sim
+            .law
+            .cutoff(p.diameter[a] * sim.scale, p.diameter[b] * sim.scale);
+        if r2 < cut * cut {
+            for i in [a, b] {
+                if i < p.n_owned {
+                    touched[i] = true;
+                }
+            }
+        }
+    }
+    for (i, t) in touched.iter_mut().enumerate() {
+        if !*t {
+            let reach = sim.law.wall_reach(p.diameter[i] * sim.scale);
+            *t = sim.walls.touches(p.x[i], reach);
+        }
+    }
+    touched
+}
+
+/// Mobile particles touching nothing now ([`in_contact`]) and all mobile particles, summed
+/// over ranks: `[airborne, mobile]` (every rank calls this together).
+pub fn airborne(sim: &Sim) -> [u64; 2] {
+    let p = &sim.p;
+    let touched = in_contact(sim);
+    let mut sums = [0u64, 0];
+    for i in (0..p.n_owned).filter(|&i| !is_fixed(p.species[i])) {
+        sums[1] += 1;
+        sums[0] += u64::from(!touched[i]);
+    }
+    sim.comm().sum_u64_all(&mut sums);
+    sums
+}
+
 #[cfg(test)]
 mod tests {
     use super::quantum;

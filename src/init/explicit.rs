@@ -4,7 +4,7 @@
 //! overlap by more than `run.max_overlap` of the smaller diameter.
 
 use super::Share;
-use crate::case::{Case, Shape};
+use crate::case::Case;
 use crate::comm::Comm;
 use crate::particles::ParticleState;
 use std::collections::HashMap;
@@ -158,7 +158,7 @@ fn check(
     ps: &[ParticleState],
     mine: &dyn Fn(&ParticleState) -> bool,
 ) -> Result<(), String> {
-    let radius = 0.5 * case.drum.diameter;
+    let walls = crate::physics::DrumWalls::of(&case.drum);
     let half = 0.5 * case.drum.axial_length();
     let max_overlap = case.run.max_overlap;
     let source = source(case);
@@ -203,14 +203,8 @@ fn check(
         // a settled bed of soft particles, a run's own output, overlaps by several percent
         let r = 0.5 * p.diameter - max_overlap * p.diameter;
         let x = p.x;
-        let outside = match case.drum.shape {
-            Shape::Sphere => (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + r > radius,
-            Shape::Cylinder => {
-                (x[0] * x[0] + x[1] * x[1]).sqrt() + r > radius
-                    || (!case.drum.periodic() && x[2].abs() + r > half)
-                    || (case.drum.periodic() && !(-half..half).contains(&x[2]))
-            }
-        };
+        let outside =
+            !walls.inside(x, r) || (case.drum.periodic() && !(-half..half).contains(&x[2]));
         if outside || !x.iter().all(|c| c.is_finite()) {
             return Err(format!(
                 "init: particle {} at ({}, {}, {}) is not inside the drum",

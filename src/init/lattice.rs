@@ -31,7 +31,8 @@ pub fn fcc_spacing(rho: f64) -> f64 {
 /// The initial particles of `case` in `share`, sorted by id.
 pub fn lattice(case: &Case, share: &Share) -> Vec<ParticleState> {
     let l = case.drum.axial_length();
-    let radius = 0.5 * case.drum.diameter;
+    // inside the lifters' tips, if any
+    let radius = crate::physics::DrumWalls::of(&case.drum).clear_radius();
     let gap = case.init.wall_gap;
     let capped = case.drum.ends == Some(Ends::Capped);
     let a0 = fcc_spacing(case.init.density.unwrap_or(f64::NAN));

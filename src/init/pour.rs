@@ -9,9 +9,10 @@
 
 use super::keyed::{self, Permutation, Purpose};
 use super::Share;
-use crate::case::{Case, Shape};
+use crate::case::Case;
 use crate::engine::Sim;
 use crate::particles::ParticleState;
+use crate::physics::DrumWalls;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -79,37 +80,6 @@ pub fn poured_per_species(case: &Case) -> Vec<f64> {
         .collect()
 }
 
-/// Fraction of the drum's volume below height `h` (`-R <= h <= R`).
-pub fn fill_below(shape: Shape, radius: f64, h: f64) -> f64 {
-    let h = h.clamp(-radius, radius);
-    match shape {
-        Shape::Cylinder => {
-            let area = h * (radius * radius - h * h).sqrt()
-                + radius * radius * (h / radius).asin()
-                + 0.5 * PI * radius * radius;
-            area / (PI * radius * radius)
-        }
-        Shape::Sphere => {
-            let c = radius + h;
-            PI * c * c * (3.0 * radius - c) / 3.0 / (4.0 / 3.0 * PI * radius.powi(3))
-        }
-    }
-}
-
-/// Height below which the drum's volume is the fraction `fill`.
-pub fn cut_height(shape: Shape, radius: f64, fill: f64) -> f64 {
-    let (mut lo, mut hi) = (-radius, radius);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if fill_below(shape, radius, mid) < fill {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// Share of the eligible cells of the placement grid that hold a point (which ones is drawn
 /// at random, layer by layer).
 const CELL_OCCUPANCY: f64 = 0.85;
@@ -125,7 +95,10 @@ struct Grid {
     jitter: f64,
     /// Radius inside which every point must lie.
     room: f64,
-    sphere: bool,
+    /// How far a centre must stay from the wall (before the lifters and rough wall).
+    margin: f64,
+    /// The drum body, which shapes the rows of cells.
+    vessel: std::sync::Arc<dyn crate::physics::walls::Vessel>,
     /// Centres of the layers along the axis.
     layers: Vec<f64>,
     /// Eligible cells per layer.
@@ -135,9 +108,9 @@ struct Grid {
 }
 
 impl Grid {
-    fn new(case: &Case, c: f64, d_max: f64, room: f64) -> Self {
+    fn new(case: &Case, c: f64, d_max: f64, room: f64, walls: &DrumWalls) -> Self {
         let half = 0.5 * case.drum.axial_length();
-        let sphere = case.drum.shape == Shape::Sphere;
+        let vessel = walls.vessel.clone();
         let cz = if case.drum.periodic() {
             2.0 * half / (2.0 * half / c).floor().max(1.0)
         } else {
@@ -150,7 +123,7 @@ impl Grid {
             let nz = (2.0 * half / cz).round() as i64;
             (0..nz).map(|k| -half + (k as f64 + 0.5) * cz).collect()
         } else {
-            let z_room = if sphere { room } else { half - 0.5 * d_max };
+            let z_room = vessel.placement_half_length(room, d_max);
             let mz = ((z_room - jitter) / c).floor();
             if mz < 0.0 {
                 Vec::new()
@@ -163,7 +136,8 @@ impl Grid {
             c,
             jitter,
             room,
-            sphere,
+            margin: 0.5 * d_max,
+            vessel,
             layers,
             eligible: Vec::new(),
             scale: shrunk / d_max,
@@ -180,11 +154,9 @@ impl Grid {
     /// whose cells are `x = i c`, `-k <= i <= k`.
     fn rows(&self, z: f64) -> impl Iterator<Item = (i64, u64)> + '_ {
         let m = (self.room / self.c).floor() as i64;
-        let zz = if self.sphere {
-            (z.abs() + self.jitter).powi(2)
-        } else {
-            0.0
-        };
+        let zz = self
+            .vessel
+            .placement_cut(self.room, self.margin, z, self.jitter);
         (-m..=m).filter_map(move |j| {
             let y = (j as f64 * self.c).abs() + self.jitter;
             let left = self.room * self.room - y * y - zz;
@@ -227,7 +199,9 @@ pub fn points(case: &Case, share: &Share) -> Result<(Vec<ParticleState>, f64), S
         return Ok((Vec::new(), 1.0));
     }
 
-    let radius = 0.5 * case.drum.diameter;
+    let walls = DrumWalls::of(&case.drum);
+    // inside the lifters' tips, if any
+    let radius = walls.clear_radius();
     // at full size no wall overlap (a rough wall's particles stick out by half their size)
     let rough = case
         .drum
@@ -241,13 +215,10 @@ pub fn points(case: &Case, share: &Share) -> Result<(Vec<ParticleState>, f64), S
             case.drum.diameter
         ));
     }
-    let room_volume = match case.drum.shape {
-        Shape::Sphere => 4.0 / 3.0 * PI * room.powi(3),
-        Shape::Cylinder => PI * room * room * case.drum.axial_length(),
-    };
+    let room_volume = walls.vessel.placement_volume(room, 0.5 * d_max);
     let mut c = (room_volume * CELL_OCCUPANCY / n as f64).cbrt();
     let grid = loop {
-        let grid = Grid::new(case, c, d_max, room);
+        let grid = Grid::new(case, c, d_max, room, &walls);
         if grid.cells() as f64 * CELL_OCCUPANCY >= n as f64 {
             break grid;
         }
@@ -374,9 +345,8 @@ pub fn grow_settle_cut(sim: &mut Sim, case: &Case, start_scale: f64) -> Result<P
         sim.step();
         healthy(sim, case, "settling", k + 1 == settle_steps)?;
     }
-    let radius = 0.5 * case.drum.diameter;
     let fill = case.init.fill.unwrap_or(0.0);
-    let h = cut_height(case.drum.shape, radius, fill);
+    let h = sim.walls.cut_height(fill);
     sim.remove_where(|s| s.x[1] > h);
     let kept = sim.global_count();
 
@@ -384,7 +354,7 @@ pub fn grow_settle_cut(sim: &mut Sim, case: &Case, start_scale: f64) -> Result<P
     // three largest diameters wide hold enough of the top layer that the highest centre
     // lies within a few percent of a diameter of the cut (one diameter wide: ~15 %).
     let top = sim.bed_top(3.0 * case.d_max());
-    let measured_fill = fill_below(case.drum.shape, radius, top);
+    let measured_fill = sim.walls.fill_below(top);
     if top < h - case.d_max() {
         return Err(format!(
             "init.fill: the settled bed reaches only y = {top:.4} but the cut is at {h:.4}; pour more \

@@ -143,7 +143,7 @@ fn box_of(case: &Case) -> ([[f64; 2]; 3], &'static str) {
     let side = [-r - pad, r + pad];
     match case.drum.shape {
         Shape::Sphere => ([side, side, side], "f f f"),
-        Shape::Cylinder => {
+        _ => {
             let h = 0.5 * case.drum.axial_length();
             if case.drum.periodic() {
                 ([side, side, [-h, h]], "f f p")

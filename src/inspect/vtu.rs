@@ -176,12 +176,7 @@ pub fn export_vtu(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "run".into());
     let drum = dir.join(format!("{stem}_drum.vtu"));
-    let mesh = drum_mesh(
-        case.drum.shape,
-        case.drum.diameter,
-        case.drum.axial_length(),
-        case.drum.periodic(),
-    );
+    let mesh = drum_mesh(&case.drum);
     let mut files = Vec::new();
     let mut series = Vec::new();
     let mut particles = 0;

@@ -23,7 +23,7 @@
 //!
 //! Every HDF5 item's number type and precision is the dataset's own (read from the file).
 
-use crate::case::{parse_case, Case, Shape};
+use crate::case::{parse_case, Case};
 use hdf5::types::{FloatSize, IntSize, TypeDescriptor};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -76,8 +76,8 @@ pub struct Fields {
 /// Everything the XDMF file describes.
 #[derive(Debug, Clone)]
 pub struct Layout {
-    /// The drum's shape, diameter, axial length and whether its ends are periodic.
-    pub drum: Option<(Shape, f64, f64, bool)>,
+    /// The drum's wall at time zero.
+    pub drum: Option<DrumMesh>,
     /// The snapshots, in order of time.
     pub snapshots: Vec<Snapshot>,
     /// The field windows, if any.
@@ -129,14 +129,7 @@ const PARTICLE_ARRAYS: [&str; 6] = [
 pub fn describe(file: &hdf5::File) -> hdf5::Result<Layout> {
     let case: Option<Case> =
         crate::inspect::attr_string(file, "case").and_then(|text| parse_case(&text, "case").ok());
-    let drum = case.as_ref().map(|c| {
-        (
-            c.drum.shape,
-            c.drum.diameter,
-            c.drum.axial_length(),
-            c.drum.periodic(),
-        )
-    });
+    let drum = case.as_ref().map(|c| drum_mesh(&c.drum));
     let mut snapshots = Vec::new();
     for (group, rotations, count) in super::diag_file::snapshots(file)? {
         let items: Vec<Item> = PARTICLE_ARRAYS
@@ -262,8 +255,7 @@ fn slab_item(h5_name: &str, it: &Item, w: usize, c: usize) -> String {
     )
 }
 /// The grid of the drum's wall.
-fn drum_grid(s: &mut String, drum: (Shape, f64, f64, bool)) {
-    let mesh = drum_mesh(drum.0, drum.1, drum.2, drum.3);
+fn drum_grid(s: &mut String, mesh: &DrumMesh) {
     let (np, nt) = (mesh.points.len(), mesh.triangles.len());
     let _ = writeln!(s, "    <Grid Name=\"drum\" GridType=\"Uniform\">");
     let _ = write!(
@@ -433,7 +425,7 @@ pub fn render(h5_name: &str, layout: &Layout) -> String {
                 }
             }
         }
-        match (step, layout.drum) {
+        match (step, &layout.drum) {
             (0, Some(drum)) => drum_grid(&mut s, drum),
             (_, Some(_)) => include(&mut s, 0, "drum", ""),
             _ => {}
@@ -568,21 +560,47 @@ mod tests {
 
     #[test]
     fn drum_meshes_lie_on_the_wall() {
-        let m = drum_mesh(Shape::Sphere, 2.0, 2.0, false);
+        let drum = |text: &str| -> crate::case::Drum {
+            toml::from_str(&format!("omega = 1.0\n{text}")).unwrap()
+        };
+        let m = drum_mesh(&drum("shape = \"sphere\"\ndiameter = 2.0"));
         assert_eq!(m.points.len(), 2 + (SPHERE_RINGS - 1) * DRUM_SEGMENTS);
         assert_eq!(m.triangles.len(), 2 * DRUM_SEGMENTS * (SPHERE_RINGS - 1));
         for p in &m.points {
             let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
             assert!((r - 1.0).abs() < 1e-15, "{p:?}");
         }
-        let open = drum_mesh(Shape::Cylinder, 2.0, 4.0, true);
+        let open = drum_mesh(&drum("diameter = 2.0\nlength = 4.0\nends = \"periodic\""));
         assert_eq!(open.points.len(), 2 * DRUM_SEGMENTS);
         assert_eq!(open.triangles.len(), 2 * DRUM_SEGMENTS);
         assert!(open.points.iter().all(|p| p[2].abs() == 2.0));
-        let capped = drum_mesh(Shape::Cylinder, 2.0, 4.0, false);
+        let capped = drum_mesh(&drum("diameter = 2.0\nlength = 4.0\nends = \"capped\""));
         assert_eq!(capped.triangles.len(), 4 * DRUM_SEGMENTS);
+        // a cone: the rings at the radii of its two ends; lifters: 12 triangles each
+        let cone = drum_mesh(&drum(
+            "shape = \"cone\"\ndiameter = 2.0\ndiameter_high = 1.0\nlength = 4.0",
+        ));
+        assert_eq!(cone.triangles.len(), 4 * DRUM_SEGMENTS);
+        for p in &cone.points[..2 * DRUM_SEGMENTS] {
+            let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
+            let want = if p[2] < 0.0 { 1.0 } else { 0.5 };
+            assert!((r - want).abs() < 1e-15, "{p:?}");
+        }
+        let lifted = drum_mesh(&drum(
+            "diameter = 2.0\nlength = 4.0\nends = \"capped\"\n[lifters]\ncount = 4\nheight = 0.2\nthickness = 0.05",
+        ));
+        assert_eq!(lifted.triangles.len(), 4 * DRUM_SEGMENTS + 4 * 12);
+        for p in &lifted.points[2 * DRUM_SEGMENTS + 2..] {
+            let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
+            assert!(r > 0.79 && r < 1.001, "{p:?}");
+        }
         // every triangle uses three different points
-        for t in capped.triangles.iter().chain(&m.triangles) {
+        for t in capped
+            .triangles
+            .iter()
+            .chain(&m.triangles)
+            .chain(&lifted.triangles)
+        {
             assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2], "{t:?}");
         }
     }

@@ -22,10 +22,13 @@ pub enum Wall {
     CapLow = 1,
     /// The end cap at `z = +L/2`.
     CapHigh = 2,
+    /// A lifter (one slot for all of a drum's lifters: a particle touches at most one, see
+    /// `physics/walls/lifters.rs`), with the curved wall's friction.
+    Lifter = 3,
 }
 
 /// Number of wall history slots per particle.
-pub const WALLS: usize = 3;
+pub const WALLS: usize = 4;
 
 /// Friction of every species pair and of every species against each wall.
 #[derive(Debug, Clone)]
@@ -98,6 +101,7 @@ impl Materials {
                     curved,
                     surface(case.drum.cap_low),
                     surface(case.drum.cap_high),
+                    curved,
                 ]
             })
             .collect();
