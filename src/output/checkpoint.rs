@@ -527,6 +527,12 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
         .copied()
         .unwrap_or(0);
     let fw = wall_width / WALLS;
+    if wall_width == 3 * (WALLS - 1) {
+        return Err(format!(
+            "checkpoint {}: it was written by a tumbler with three wall slots (before lifters); finish that run with the version that started it",
+            path.display()
+        ));
+    }
     if wall_width % WALLS != 0 || !(FILE_WORDS_MIN..=HISTORY_MAX).contains(&fw) {
         return Err(format!(
             "checkpoint {}: its wall histories have {wall_width} columns, not {WALLS} slots of {FILE_WORDS_MIN} to {HISTORY_MAX} words",
