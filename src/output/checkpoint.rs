@@ -292,7 +292,7 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
     let mut rows = [ck.particles.len() as u64, ck.histories.len() as u64];
     comm.sum_u64_all(&mut rows);
     let short = if root {
-        short_of_room(path, rows)
+        short_of_room(path, rows, ck.history_words.max(FILE_WORDS_MIN))
     } else {
         None
     };
@@ -349,13 +349,12 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
 /// upper bound of what they take (gzip's worst case, incompressible data in stored blocks,
 /// adds about 5 bytes per 64 KiB, well within the tenth); the previous checkpoint, written
 /// the same way, remains the closer estimate once there is one.
-fn short_of_room(path: &Path, rows: [u64; 2]) -> Option<String> {
+fn short_of_room(path: &Path, rows: [u64; 2], words: usize) -> Option<String> {
     let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    // a particle's row is its full state, a history's its two ids and its words (at most),
-    // uncompressed
-    let words = rows[0] * crate::particles::PACKED_WORDS_MAX as u64
-        + rows[1]
-            * crate::engine::neighbor::record_words(crate::physics::contact::HISTORY_MAX) as u64;
+    // a particle's row is its full state, a history's its two ids and its `words`
+    // (uncompressed)
+    let words = rows[0] * crate::particles::packed_words(words) as u64
+        + rows[1] * crate::engine::neighbor::record_words(words) as u64;
     let estimate = previous.max(8 * words);
     let needed = estimate + estimate / 10 + (64 << 10);
     let dir = match path.parent() {
