@@ -142,7 +142,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let nz = (case.drum.axial_length() / case.slice_width())
         .round()
         .max(1.0) as usize;
-    let [nx, ny, nzf] = g.fields.grid;
+    let [nx, ny, nzf] = case.field_grid();
     let ns = case.species.len();
     // 128-bit sums: 10 per species and field bin, 2 per species and slice bin
     let sums = 16 * ns * nx * ny * (10 * nzf + 2 * nz);

@@ -67,6 +67,31 @@ impl Case {
         })
     }
 
+    /// Bins of the binned fields along `x`, `y`, `z`: `diagnostics.fields.grid`, or as many
+    /// as fit bins at least the largest diameter wide across the drum's diameter and axial
+    /// length, at most [`FIELD_GRID_MAX`] (a particle counts whole in the bin of its centre,
+    /// so narrower bins give a speckled map whose volume fraction exceeds 1).
+    pub fn field_grid(&self) -> [usize; 3] {
+        self.diagnostics.fields.grid.unwrap_or_else(|| {
+            let d = self.d_max();
+            let extent = [
+                self.drum.diameter,
+                self.drum.diameter,
+                self.drum.axial_length(),
+            ];
+            let mut n = [1; 3];
+            for k in 0..3 {
+                let fit = extent[k] / d;
+                n[k] = if fit.is_finite() && fit >= 1.0 {
+                    (fit.floor() as usize).min(FIELD_GRID_MAX[k])
+                } else {
+                    1
+                };
+            }
+            n
+        })
+    }
+
     /// Thickness of the axial slices: `output.slice_width`, or the smallest diameter.
     pub fn slice_width(&self) -> f64 {
         self.output.slice_width.unwrap_or(self.d_min())
@@ -644,9 +669,10 @@ impl Default for Diagnostics {
 #[serde(deny_unknown_fields)]
 pub struct Fields {
     /// Bins along `x` (streamwise), `y` (surface normal) and `z` (axis); the per-slice fluxes
-    /// use the first two on every axial slice.
-    #[serde(default = "default_grid")]
-    pub grid: [usize; 3],
+    /// use the first two on every axial slice. Default: [`Case::field_grid`], bins no
+    /// narrower than the largest particle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<[usize; 3]>,
     /// Averaging window in rotations.
     #[serde(default = "default_field_window")]
     pub window: f64,
@@ -656,14 +682,13 @@ fn default_field_window() -> f64 {
     10.0
 }
 
-fn default_grid() -> [usize; 3] {
-    [40, 40, 16]
-}
+/// The most bins along `x`, `y` and `z` a default field grid has.
+pub const FIELD_GRID_MAX: [usize; 3] = [40, 40, 16];
 
 impl Default for Fields {
     fn default() -> Self {
         Fields {
-            grid: default_grid(),
+            grid: None,
             window: default_field_window(),
         }
     }

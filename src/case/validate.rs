@@ -635,7 +635,7 @@ fn check_diagnostics(case: &Case, c: &mut Checker) {
             );
         }
     }
-    for (k, n) in g.fields.grid.iter().enumerate() {
+    for (k, n) in g.fields.grid.iter().flatten().enumerate() {
         if !(1..=1000).contains(n) {
             c.bad(
                 "diagnostics.fields.grid",
@@ -643,7 +643,7 @@ fn check_diagnostics(case: &Case, c: &mut Checker) {
             );
         }
     }
-    let cells: usize = g.fields.grid.iter().product();
+    let cells: usize = g.fields.grid.map_or(1, |n| n.iter().product());
     if cells > 4_000_000 {
         c.bad(
             "diagnostics.fields.grid",
@@ -651,7 +651,7 @@ fn check_diagnostics(case: &Case, c: &mut Checker) {
         );
     }
     // the window sums of one rank, and their reduction in 64-bit limbs (MPI counts are i32)
-    let [nx, ny, nzf] = g.fields.grid;
+    let [nx, ny, nzf] = case.field_grid();
     let slices = case.drum.axial_length() / case.slice_width();
     let nz = if slices.is_finite() && slices < 1e7 {
         slices.round().max(1.0) as usize

@@ -103,7 +103,7 @@ impl Windows {
             velocity: super::grid::velocity_scale(case),
         };
         let ns = case.species.len();
-        let [nx, ny, nzf] = g.fields.grid;
+        let [nx, ny, nzf] = case.field_grid();
         Windows {
             gauge: SurfaceGauge::new(axial.nz, axial.z0, axial.width, radius, d_max, omega),
             fixed_angle: g.surface_angle,

@@ -176,10 +176,17 @@ impl RunDiagnostics {
             }
             Some(d) => {
                 let root = comm.rank() == 0;
+                let grid = case.field_grid();
                 let differ = |what: &str, a: usize, b: usize| {
-                    format!(
+                    let mut m = format!(
                         "the checkpoint's diagnostics windows hold {a} {what}, this case's {b}: diagnostics.fields.grid or output.slice_width differ"
-                    )
+                    );
+                    if case.diagnostics.fields.grid.is_none() {
+                        m += &format!(
+                            " (this case's grid is the default {grid:?}, bins a particle wide; a checkpoint written before that default kept [40, 40, 16]: set diagnostics.fields.grid = [40, 40, 16] to continue it)"
+                        );
+                    }
+                    m
                 };
                 for (acc, saved) in [
                     (&mut windows.slices, &d.slices),
