@@ -246,3 +246,167 @@ pub fn effective_modulus(y_a: f64, nu_a: f64, y_b: f64, nu_b: f64) -> f64 {
         1.0 / ((1.0 - nu_a * nu_a) / y_a + (1.0 - nu_b * nu_b) / y_b)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::spring_dashpot::NormalLaw;
+    use crate::physics::ContactLaw;
+
+    const SD_CAPPED: &str = include_str!("../../tests/cases/sd_capped.toml");
+
+    /// `sd_capped.toml` (species `small`, `large`; `t_c` = 1 ms, `e_n` = 0.9) with `extra`
+    /// TOML appended and `overrides` applied.
+    fn case(extra: &str, overrides: &[&str]) -> Case {
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        crate::case::load_text(&(SD_CAPPED.to_string() + extra), &ov, "t.toml")
+            .unwrap()
+            .case
+    }
+
+    fn normal(fr: Friction) -> (f64, f64) {
+        (fr.normal_k, fr.normal_c)
+    }
+
+    #[test]
+    fn linear_restitution_mixes_by_the_geometric_mean_and_one_species_keeps_its_own() {
+        let c = case(
+            "",
+            &[
+                "species.0.restitution=0.7",
+                "species.1.restitution_wall=0.6",
+            ],
+        );
+        let m = Materials::new(&c);
+        let tc = 1.0e-3;
+        assert_eq!(normal(m.pair(0, 0)), linear_coefficients(0.7, tc));
+        // the other species keeps the model's value, bit for bit the model's law
+        assert_eq!(normal(m.pair(1, 1)), linear_coefficients(0.9, tc));
+        let mixed = linear_coefficients((0.7f64 * 0.9).sqrt(), tc);
+        assert_eq!(normal(m.pair(0, 1)), mixed);
+        assert_eq!(normal(m.pair(1, 0)), mixed);
+        // walls: restitution_wall, by default the species' restitution; a frictionless cap
+        // (cap_high) has no friction but the wall's normal force
+        assert_eq!(
+            normal(m.wall(0, Wall::Curved)),
+            linear_coefficients(0.7, tc)
+        );
+        assert_eq!(
+            normal(m.wall(1, Wall::Curved)),
+            linear_coefficients(0.6, tc)
+        );
+        assert_eq!(
+            normal(m.wall(1, Wall::CapHigh)),
+            linear_coefficients(0.6, tc)
+        );
+        assert_eq!(m.wall(1, Wall::CapHigh).mu, 0.0);
+        // every pair lasts t_c: (pi/t_c)^2 = k0 - gamma^2
+        let (k0, two_gamma) = mixed;
+        let w = (k0 - 0.25 * two_gamma * two_gamma).sqrt();
+        assert!((w * tc / std::f64::consts::PI - 1.0).abs() < 1e-12);
+        assert_eq!(ContactLaw::new(&c).history_words(), 3);
+        assert!(matches!(
+            ContactLaw::new(&c),
+            ContactLaw::SpringDashpot(sd) if sd.normal == NormalLaw::LinearPairs
+        ));
+    }
+
+    #[test]
+    fn uniform_coefficients_keep_the_model_law_and_its_constants() {
+        for ov in [
+            &[][..],
+            &[
+                "species.0.restitution=0.9",
+                "species.1.restitution_wall=0.9",
+            ],
+        ] {
+            let c = case("", ov);
+            let (k0, two_gamma) = linear_coefficients(0.9, 1.0e-3);
+            assert!(Materials::new(&c).normal_uniform(k0, two_gamma));
+            let ContactLaw::SpringDashpot(sd) = ContactLaw::new(&c) else {
+                panic!()
+            };
+            assert_eq!(sd.normal, NormalLaw::Linear { k0, two_gamma });
+        }
+    }
+
+    #[test]
+    fn a_pair_override_wins_over_the_rule_for_the_unordered_pair_only() {
+        let c = case(
+            "[[pairs]]\nspecies = [\"large\", \"small\"]\nmu = 0.2\nrestitution = 0.5\n",
+            &["species.0.restitution=0.7"],
+        );
+        let m = Materials::new(&c);
+        for (a, b) in [(0, 1), (1, 0)] {
+            assert_eq!(m.pair(a, b).mu, 0.2);
+            assert_eq!(normal(m.pair(a, b)), linear_coefficients(0.5, 1.0e-3));
+        }
+        assert_eq!(m.pair(0, 0).mu, 0.5);
+        assert_eq!(normal(m.pair(0, 0)), linear_coefficients(0.7, 1.0e-3));
+        assert_eq!(normal(m.pair(1, 1)), linear_coefficients(0.9, 1.0e-3));
+        assert_eq!(
+            normal(m.wall(1, Wall::Curved)),
+            linear_coefficients(0.9, 1.0e-3)
+        );
+        // rolling friction and cohesion likewise
+        let c = case(
+            "[[pairs]]\nspecies = [\"small\", \"small\"]\nmu_roll = 0.05\ncohesion_energy = 7.0\n",
+            &[
+                "model.rolling=\"sds\"",
+                "model.cohesion=\"sjkr\"",
+                "species.0.mu_roll=0.1",
+                "species.1.mu_roll=0.2",
+                "species.0.cohesion_energy=100.0",
+                "species.1.cohesion_energy=400.0",
+            ],
+        );
+        let m = Materials::new(&c);
+        assert_eq!((m.pair(0, 0).mu_roll, m.pair(0, 0).cohesion), (0.05, 7.0));
+        assert_eq!((m.pair(0, 1).mu_roll, m.pair(0, 1).cohesion), (0.1, 200.0));
+        assert_eq!((m.pair(1, 1).mu_roll, m.pair(1, 1).cohesion), (0.2, 400.0));
+        assert_eq!(m.wall(0, Wall::Curved).mu_roll, 0.1);
+    }
+
+    #[test]
+    fn hertz_moduli_mix_to_the_effective_modulus_and_one_material_keeps_todays_kh() {
+        let hertz = [
+            "model.normal=\"hertz\"",
+            "model.youngs_modulus=1.0e7",
+            "model.poisson_ratio=0.3",
+            "model.hertz_damping=0.01",
+            "run.dt=2e-6",
+        ];
+        let c = case("", &hertz);
+        let m = Materials::new(&c);
+        let kh = 2.0 * 1.0e7 / (3.0 * (1.0 - 0.3 * 0.3));
+        assert!(m.normal_uniform(kh, 0.01));
+        let ContactLaw::SpringDashpot(sd) = ContactLaw::new(&c) else {
+            panic!()
+        };
+        assert_eq!(sd.normal, NormalLaw::Hertz { kh, gamma_h: 0.01 });
+        let mut ov = hertz.to_vec();
+        ov.extend([
+            "species.1.youngs_modulus=4.0e7",
+            "species.1.poisson_ratio=0.25",
+        ]);
+        let c = case("", &ov);
+        let m = Materials::new(&c);
+        assert_eq!(normal(m.pair(0, 0)), (kh, 0.01));
+        let kh1 = 2.0 * 4.0e7 / (3.0 * (1.0 - 0.25 * 0.25));
+        assert_eq!(normal(m.pair(1, 1)), (kh1, 0.01));
+        assert_eq!(normal(m.wall(1, Wall::CapLow)), (kh1, 0.01));
+        let e_star = 1.0 / ((1.0 - 0.09) / 1.0e7 + (1.0 - 0.0625) / 4.0e7);
+        let mixed = m.pair(0, 1).normal_k;
+        assert!((mixed / (4.0 / 3.0 * e_star) - 1.0).abs() < 1e-14);
+        assert_eq!(mixed, m.pair(1, 0).normal_k);
+        // between the two materials' values
+        assert!(kh < mixed && mixed < kh1);
+        let ContactLaw::SpringDashpot(sd) = ContactLaw::new(&c) else {
+            panic!()
+        };
+        assert_eq!(sd.normal, NormalLaw::HertzPairs);
+        // the stiffer material shortens the shortest contact
+        let t = |c: &Case| crate::physics::law::step_limits(c).contact_time_min;
+        assert!(t(&c) < t(&case("", &hertz)));
+    }
+}
