@@ -62,6 +62,11 @@ impl Checker {
             }
         }
     }
+    fn restitution(&mut self, key: &str, e: f64) {
+        if !(e > 0.0 && e <= 1.0) {
+            self.bad(key, format!("must be in (0, 1], got {e}"));
+        }
+    }
     fn forbidden<T>(&mut self, key: &str, x: &Option<T>, why: &str) {
         if x.is_some() {
             self.bad(key, format!("does not apply {why}"));
@@ -385,11 +390,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             ("restitution_wall", s.restitution_wall),
         ] {
             match v {
-                Some(e) if linear => {
-                    if !(e > 0.0 && e <= 1.0) {
-                        c.bad(&key(f), format!("must be in (0, 1], got {e}"));
-                    }
-                }
+                Some(e) if linear => c.restitution(&key(f), e),
                 Some(_) => c.bad(&key(f), not_linear(m.family).into()),
                 None => {}
             }
@@ -695,9 +696,7 @@ fn check_pairs(case: &Case, c: &mut Checker) {
         }
         match p.restitution {
             Some(e) if m.family == Family::SpringDashpot && m.normal == Normal::Linear => {
-                if !(e > 0.0 && e <= 1.0) {
-                    c.bad(&key("restitution"), format!("must be in (0, 1], got {e}"));
-                }
+                c.restitution(&key("restitution"), e)
             }
             Some(_) => c.bad(&key("restitution"), not_linear(m.family).into()),
             None => {}
