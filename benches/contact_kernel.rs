@@ -1,6 +1,7 @@
 //! The pair pass alone (`engine::forces`), touching pairs per second: the scalar reference
 //! laws against the batched pass on each instruction set this CPU has, for the thesis'
-//! linear spring-dashpot law with Cundall-Strack histories and for Rapaport's law.
+//! linear spring-dashpot law with Cundall-Strack histories (with the model's normal
+//! coefficients, and with each pair's own) and for Rapaport's law.
 //!
 //!   cargo bench --bench contact_kernel
 //!
@@ -108,6 +109,30 @@ fn kernels(c: &mut Criterion) {
     };
     let law = ContactLaw::SpringDashpot(plain);
     bench_law(c, "spring-dashpot history", law, &mat, 0.0025);
+    // the same with each pair's own normal coefficients (restitution per species and a
+    // [[pairs]] override): what gathering them costs
+    let mut per_pair = sd.clone();
+    for (k, s) in per_pair.species.iter_mut().enumerate() {
+        s.restitution = Some(0.9 - 0.1 * k as f64);
+    }
+    per_pair.pairs.push(tumbler::case::PairOverride {
+        species: vec!["small".into(), "large".into()],
+        mu: None,
+        mu_roll: None,
+        cohesion_energy: None,
+        restitution: Some(0.7),
+    });
+    let law = ContactLaw::SpringDashpot(SpringDashpot {
+        normal: NormalLaw::LinearPairs,
+        ..plain
+    });
+    bench_law(
+        c,
+        "spring-dashpot history, per-pair normal",
+        law,
+        &Materials::new(&per_pair),
+        0.0025,
+    );
     // the same with the rolling spring and cohesion: what the sub-models cost
     let mut sticky = sd.clone();
     for s in sticky.species.iter_mut() {

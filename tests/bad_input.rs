@@ -765,3 +765,204 @@ fn inconsistent_species_and_particle_sources_are_refused() {
         &["init.file: give either init.file or [[init.particle]] tables, not both or neither"],
     );
 }
+
+/// `sd_capped.toml` (linear spring-dashpot, species `small` and `large`) with `pairs` added
+/// as TOML text and `overrides` applied; the refusal messages.
+fn pairs_refusal(pairs: &str, overrides: &[&str]) -> String {
+    let text = std::fs::read_to_string(case_path("sd_capped.toml")).unwrap() + pairs;
+    let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    match tumbler::case::load_text(&text, &ov, "bad.toml") {
+        Ok(_) => panic!("{pairs} with {overrides:?} was accepted"),
+        Err(errs) => errs
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("\n"),
+    }
+}
+
+#[test]
+fn pair_overrides_and_per_species_normal_coefficients_are_accepted() {
+    let text = std::fs::read_to_string(case_path("sd_capped.toml")).unwrap()
+        + "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu = 0.3\nrestitution = 0.7\n\n\
+           [[pairs]]\nspecies = [\"large\", \"large\"]\nrestitution = 0.95\n";
+    let ov = vec![
+        "species.0.restitution=0.8".to_string(),
+        "species.1.restitution_wall=0.6".to_string(),
+    ];
+    let case = tumbler::case::load_text(&text, &ov, "ok.toml")
+        .unwrap()
+        .case;
+    assert_eq!(case.pairs.len(), 2);
+}
+
+#[test]
+fn pair_naming_an_unknown_species_is_refused() {
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"huge\"]\nmu = 0.3\n",
+        &[],
+    );
+    expect(
+        &m,
+        &[
+            "pairs.0.species",
+            "`huge` is not the name of a species",
+            "small, large",
+        ],
+    );
+    let m = pairs_refusal("[[pairs]]\nspecies = [\"small\"]\nmu = 0.3\n", &[]);
+    expect(&m, &["pairs.0.species", "must name two species", "got 1"]);
+}
+
+#[test]
+fn pair_given_twice_is_refused() {
+    // an unordered pair: large / small is small / large
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu = 0.3\n\n\
+         [[pairs]]\nspecies = [\"large\", \"small\"]\nrestitution = 0.5\n",
+        &[],
+    );
+    expect(&m, &["pairs.1.species", "is given twice", "also pairs.0"]);
+}
+
+#[test]
+fn pair_values_out_of_range_are_refused() {
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu = -0.1\nrestitution = 1.5\n",
+        &[],
+    );
+    expect(
+        &m,
+        &[
+            "pairs.0.mu",
+            "zero or positive",
+            "pairs.0.restitution",
+            "(0, 1]",
+        ],
+    );
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nrestitution = 0.0\n",
+        &[],
+    );
+    expect(&m, &["pairs.0.restitution", "must be in (0, 1], got 0"]);
+    let m = pairs_refusal("[[pairs]]\nspecies = [\"small\", \"large\"]\n", &[]);
+    expect(&m, &["pairs.0", "gives no coefficient"]);
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu = nan\n",
+        &[],
+    );
+    expect(&m, &["pairs.0.mu", "finite"]);
+}
+
+#[test]
+fn pair_keys_of_another_model_are_refused() {
+    // a restitution with the Hertz law, sub-model coefficients without the sub-model
+    let hertz = [
+        "model.normal=\"hertz\"",
+        "model.youngs_modulus=1e7",
+        "model.poisson_ratio=0.3",
+        "model.hertz_damping=0.0",
+        "run.dt=2e-6",
+    ];
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nrestitution = 0.5\n",
+        &hertz,
+    );
+    expect(
+        &m,
+        &[
+            "pairs.0.restitution",
+            "does not apply to the Hertz normal force",
+        ],
+    );
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu_roll = 0.1\ncohesion_energy = 100.0\n",
+        &[],
+    );
+    expect(
+        &m,
+        &[
+            "pairs.0.mu_roll",
+            "has no effect without model.rolling",
+            "pairs.0.cohesion_energy",
+            "has no effect without model.cohesion",
+        ],
+    );
+    let m = pairs_refusal(
+        "[[pairs]]\nspecies = [\"small\", \"large\"]\nmu = 0.3\ngamma_s = 1.0\n",
+        &[],
+    );
+    expect(&m, &["unknown field `gamma_s`"]);
+    // the rapaport family: a pair's restitution does not apply
+    let text = base() + "[[pairs]]\nspecies = [\"small\", \"big\"]\nrestitution = 0.5\n";
+    let m = refusal(|_| text.clone());
+    expect(
+        &m,
+        &[
+            "pairs.0.restitution",
+            "does not apply to the rapaport family",
+        ],
+    );
+}
+
+#[test]
+fn per_species_normal_coefficients_out_of_range_or_of_another_model_are_refused() {
+    let m = with_on(
+        "sd_capped.toml",
+        &[
+            "species.0.restitution=0.0",
+            "species.1.restitution_wall=1.2",
+        ],
+    );
+    expect(
+        &m,
+        &[
+            "species.0.restitution",
+            "(0, 1]",
+            "species.1.restitution_wall",
+            "got 1.2",
+        ],
+    );
+    // Young's modulus and Poisson ratio are Hertz's
+    let m = with_on("sd_capped.toml", &["species.0.youngs_modulus=1e7"]);
+    expect(
+        &m,
+        &[
+            "species.0.youngs_modulus",
+            "only with model.normal = \"hertz\"",
+        ],
+    );
+    let hertz = [
+        "model.normal=\"hertz\"",
+        "model.youngs_modulus=1e7",
+        "model.poisson_ratio=0.3",
+        "model.hertz_damping=0.0",
+        "run.dt=2e-6",
+    ];
+    let mut ov = hertz.to_vec();
+    ov.extend([
+        "species.0.youngs_modulus=-1.0",
+        "species.1.poisson_ratio=0.5",
+        "species.0.restitution=0.5",
+    ]);
+    let m = with_on("sd_capped.toml", &ov);
+    expect(
+        &m,
+        &[
+            "species.0.youngs_modulus",
+            "positive",
+            "species.1.poisson_ratio",
+            "(-1, 0.5)",
+            "species.0.restitution",
+            "does not apply to the Hertz normal force",
+        ],
+    );
+    let m = with("species.0.restitution=0.5");
+    expect(
+        &m,
+        &[
+            "species.0.restitution",
+            "does not apply to the rapaport family",
+        ],
+    );
+}

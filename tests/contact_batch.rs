@@ -324,3 +324,94 @@ fn rapaport_law_same_bits_scalar_and_vector() {
     same_bits(law, &mat, 1.0, 1.0, Some(0.0));
     same_bits(law, &mat, 1.0, 0.9, None);
 }
+
+/// The materials of `sd_capped.toml` with distinct normal coefficients per pair (and per
+/// species against the walls, which a rough wall's particles stand for): restitution per
+/// species and a `[[pairs]]` override for the linear law, Young's modulus and Poisson
+/// ratio per species for Hertz; with rolling friction and cohesion as above.
+fn per_pair_materials(hertz: bool) -> Materials {
+    let mut c = case("sd_capped.toml");
+    if hertz {
+        c.model.normal = tumbler::case::Normal::Hertz;
+        c.model.youngs_modulus = Some(1.0e7);
+        c.model.poisson_ratio = Some(0.3);
+        c.model.hertz_damping = Some(2.0);
+    }
+    for (k, s) in c.species.iter_mut().enumerate() {
+        s.mu_roll = Some(0.2 + 0.1 * k as f64);
+        s.cohesion_energy = Some(2.0e4 * (1 + k) as f64);
+        if hertz {
+            s.youngs_modulus = Some(1.0e7 * (1 + 3 * k) as f64);
+            s.poisson_ratio = Some(0.3 - 0.05 * k as f64);
+        } else {
+            s.restitution = Some(0.9 - 0.2 * k as f64);
+            s.restitution_wall = Some(0.6 + 0.1 * k as f64);
+        }
+    }
+    if !hertz {
+        c.pairs.push(tumbler::case::PairOverride {
+            species: vec!["small".into(), "large".into()],
+            mu: Some(0.3),
+            mu_roll: None,
+            cohesion_energy: None,
+            restitution: Some(0.4),
+        });
+    }
+    Materials::new(&c)
+}
+
+#[test]
+fn per_pair_normal_coefficients_same_bits_scalar_and_vector() {
+    let d = 0.0025;
+    for (normal, hertz) in [
+        (NormalLaw::LinearPairs, false),
+        (NormalLaw::HertzPairs, true),
+    ] {
+        let mat = per_pair_materials(hertz);
+        // the pairs do differ: like, mixed and wall (rough-wall particle) contacts
+        let k = |a: u8, b: u8| mat.pair(a, b).normal_k;
+        assert!(k(0, 0) != k(1, 1) && k(0, 1) != k(0, 0) && k(0, 1) != k(1, 1));
+        assert!(k(0, FIXED_SPECIES) != k(1, FIXED_SPECIES));
+        // (Hertz: a wall is of the species' material)
+        assert!(hertz || k(0, FIXED_SPECIES) != k(0, 0));
+        for tangential in [HISTORY, TangentialLaw::Viscous { gamma_s: None }] {
+            for (rolling, cohesion) in [
+                (RollingLaw::None, CohesionLaw::None),
+                (SDS, CohesionLaw::Sjkr),
+            ] {
+                let law = ContactLaw::SpringDashpot(SpringDashpot {
+                    normal,
+                    tangential,
+                    rolling,
+                    cohesion,
+                });
+                let n = same_bits(law, &mat, d, 1.0, None);
+                assert!(n > 500, "{law:?}: only {n} particles touched");
+                same_bits(law, &mat, d, 0.93, Some(0.0));
+            }
+        }
+        // and the per-pair law differs from the model's constants
+        let c = case("sd_capped.toml");
+        let uniform = ContactLaw::new(&c);
+        let p = bed(1500, d, 12.0 * d, &mat, 5);
+        let hist = vec![[0.0; HISTORY_MAX]; 40_000];
+        if !hertz {
+            let per_pair = spring_dashpot(NormalLaw::LinearPairs, HISTORY);
+            let ContactLaw::SpringDashpot(u) = uniform else {
+                panic!()
+            };
+            let a = pass(Isa::of_cpu(), d, &p, &per_pair, &mat, None, 1.0, &hist);
+            let b = pass(
+                Isa::of_cpu(),
+                d,
+                &p,
+                &spring_dashpot(u.normal, HISTORY),
+                &mat,
+                None,
+                1.0,
+                &hist,
+            );
+            assert_ne!(bits(&a.0), bits(&b.0));
+        }
+    }
+}

@@ -20,7 +20,7 @@ const BASES: [&str; 5] = [
 ];
 
 /// Keys a case may hold but the test cases leave out.
-const OPTIONAL: [&str; 30] = [
+const OPTIONAL: [&str; 34] = [
     "drum.shape",
     "drum.length",
     "drum.ends",
@@ -39,6 +39,10 @@ const OPTIONAL: [&str; 30] = [
     "species.0.mu_cap",
     "species.0.volume_fraction",
     "species.0.diameter_sd",
+    "species.0.restitution",
+    "species.0.restitution_wall",
+    "species.0.youngs_modulus",
+    "species.0.poisson_ratio",
     "init.grow_time",
     "init.settle_time",
     "init.bands",

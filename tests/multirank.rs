@@ -204,9 +204,12 @@ fn history_model_with_balancing_is_bit_identical_on_4_6_8_ranks() {
 }
 
 /// `sd_capped.toml` with the rolling spring (6 history words per contact) and cohesion,
-/// different for the two species and the walls, turning twice as long (the rolling
-/// resistance keeps the bed together, so fewer contacts cross a face per rotation).
-pub const ROLLING_COHESION: [&str; 16] = [
+/// different for the two species and the walls, per-species restitutions and a
+/// `[[pairs]]` override of the mixed pair (each pair then has its own normal
+/// coefficients), turning twice as long (the rolling resistance keeps the bed together, so
+/// fewer contacts cross a face per rotation). The last four words are the length and the
+/// balancing alone.
+pub const ROLLING_COHESION: [&str; 22] = [
     "--set",
     "model.rolling=\"sds\"",
     "--set",
@@ -220,6 +223,12 @@ pub const ROLLING_COHESION: [&str; 16] = [
     "--set",
     "species.1.cohesion_energy=800.0",
     "--set",
+    "species.0.restitution=0.8",
+    "--set",
+    "species.1.restitution_wall=0.7",
+    "--set",
+    "pairs=[{species=[\"small\", \"large\"], restitution=0.75, mu=0.4, mu_roll=0.12, cohesion_energy=600.0}]",
+    "--set",
     "run.rotations=0.2",
     "--set",
     "run.balance_every=0.02",
@@ -228,13 +237,19 @@ pub const ROLLING_COHESION: [&str; 16] = [
 #[test]
 fn rolling_and_cohesion_sub_models_with_balancing_are_bit_identical_on_1_2_3_4_ranks() {
     // contacts carry six history words (tangential and rolling springs) through the list,
-    // the halo's migrations and the moving boundaries
+    // the halo's migrations and the moving boundaries; each pair has its own normal
+    // coefficients
     let dir = tmpdir();
     let others = assert_identical_with("sd_capped.toml", &[2, 3, 4], &ROLLING_COHESION, &dir);
     assert_histories_migrated(&others);
     // the sub-models act: the same run without them ends elsewhere
     let d2 = tmpdir();
-    let plain = run_on(1, "sd_capped.toml", d2.path(), &ROLLING_COHESION[12..]);
+    let plain = run_on(
+        1,
+        "sd_capped.toml",
+        d2.path(),
+        &ROLLING_COHESION[ROLLING_COHESION.len() - 4..],
+    );
     let with = read(&dir.path().join("sd_capped.toml.1.h5"));
     assert_ne!(bits(&plain.position), bits(&with.position));
 }

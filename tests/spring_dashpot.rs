@@ -239,3 +239,42 @@ fn hertz_collision_lasts_as_hertz_theory_says() {
         );
     }
 }
+
+#[test]
+fn a_pair_with_its_own_restitution_rebounds_with_it_and_lasts_t_c() {
+    // species 0 ("small", e_n 0.95 of its own), species 1 ("large", the model's 0.9): a
+    // mixed pair rebounds with sqrt(0.95 0.9), or with the [[pairs]] override's 0.8; each
+    // contact lasts t_c. A step of t_c/400 makes the straddled first and last steps'
+    // error (about -ln(e_n)/400 of the velocity) small.
+    let tc = 1.0e-3;
+    let mixed = (0.95f64 * 0.9).sqrt();
+    let pair = "pairs=[{species=[\"large\", \"small\"], restitution=0.8}]";
+    for (e, extra) in [(mixed, None), (0.8, Some(pair))] {
+        let mut ov = vec!["species.0.restitution=0.95", "run.dt=2.5e-6"];
+        ov.extend(extra);
+        let case = sd_case(0.9, "viscous", &ov);
+        assert_eq!(case.model.collision_time, Some(tc));
+        let (d1, d2, v) = (0.002, 0.003, 0.4);
+        let gap0 = 0.5 * (d1 + d2) + 1e-5;
+        let a = ball(0, d1, [0.0, 0.0, -0.5 * gap0], [0.0, 0.0, 0.5 * v]);
+        let b = ParticleState::new(
+            1,
+            1,
+            d2,
+            [0.0, 0.0, 0.5 * gap0],
+            [0.0, 0.0, -0.5 * v],
+            [0.0; 3],
+        );
+        let comm = SerialComm;
+        let mut sim = Sim::new(&case, &comm, &[a, b]).unwrap();
+        let k = |s: &Sim, id: u64| s.p.id.iter().position(|&x| x == id).unwrap();
+        let gap = |s: &Sim| (s.p.x[k(s, 1)][2] - s.p.x[k(s, 0)][2]) - 0.5 * (d1 + d2);
+        let vn = |s: &Sim| s.p.v[k(s, 0)][2] - s.p.v[k(s, 1)][2];
+        let (e_got, t_got) = collide(&mut sim, gap, vn).expect("the contact ends");
+        assert!(
+            (e_got - e).abs() < 2e-3 * e,
+            "restitution {e_got}, the pair's {e}"
+        );
+        assert!((t_got - tc).abs() < 5e-3 * tc, "contact lasted {t_got}");
+    }
+}

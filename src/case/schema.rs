@@ -113,6 +113,9 @@ pub struct Case {
     pub model: Model,
     /// The particle species (one table per species, `[[species]]`).
     pub species: Vec<Species>,
+    /// Coefficients of pairs of species that override the mixing rules (`[[pairs]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pairs: Vec<PairOverride>,
     /// How the drum is filled at time zero.
     pub init: Init,
     /// Length of the run and time stepping.
@@ -440,9 +443,45 @@ pub struct Species {
     /// Cohesion energy density against the walls and caps (default `cohesion_energy`).
     #[serde(default)]
     pub cohesion_energy_wall: Option<f64>,
+    /// Linear spring-dashpot: restitution `e_n` against the same species (default
+    /// `model.restitution`). A mixed pair takes the geometric mean `sqrt(e_a e_b)`.
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Linear spring-dashpot: restitution against the walls and caps (default `restitution`).
+    #[serde(default)]
+    pub restitution_wall: Option<f64>,
+    /// Hertz: Young's modulus `Y` of the species (default `model.youngs_modulus`); a pair
+    /// takes the effective modulus `1/Y* = (1 - nu_a^2)/Y_a + (1 - nu_b^2)/Y_b`, a wall is
+    /// of the species' material.
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    /// Hertz: Poisson ratio `nu` of the species (default `model.poisson_ratio`).
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
     /// Share of the particle volume of a poured fill (pour only; shares must add up to 1).
     #[serde(default)]
     pub volume_fraction: Option<f64>,
+}
+
+/// The coefficients of one unordered pair of species, overriding the mixing rules
+/// (`[[pairs]]`); a coefficient not given follows the rule.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairOverride {
+    /// The names of the two species (the same name twice: the pair of one species).
+    pub species: Vec<String>,
+    /// Static friction coefficient of the pair.
+    #[serde(default)]
+    pub mu: Option<f64>,
+    /// Rolling friction coefficient of the pair (with `model.rolling`).
+    #[serde(default)]
+    pub mu_roll: Option<f64>,
+    /// Cohesion energy density of the pair (with `model.cohesion`).
+    #[serde(default)]
+    pub cohesion_energy: Option<f64>,
+    /// Restitution of the pair (linear spring-dashpot), in (0, 1].
+    #[serde(default)]
+    pub restitution: Option<f64>,
 }
 
 /// How species are laid out in the initial state.

@@ -62,6 +62,11 @@ impl Checker {
             }
         }
     }
+    fn restitution(&mut self, key: &str, e: f64) {
+        if !(e > 0.0 && e <= 1.0) {
+            self.bad(key, format!("must be in (0, 1], got {e}"));
+        }
+    }
     fn forbidden<T>(&mut self, key: &str, x: &Option<T>, why: &str) {
         if x.is_some() {
             self.bad(key, format!("does not apply {why}"));
@@ -376,6 +381,37 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
                 }
             }
         }
+        // the normal coefficients of a species: restitution for the linear law, the material
+        // for Hertz
+        let linear = m.family == Family::SpringDashpot && m.normal == Normal::Linear;
+        let hertz = m.family == Family::SpringDashpot && m.normal == Normal::Hertz;
+        for (f, v) in [
+            ("restitution", s.restitution),
+            ("restitution_wall", s.restitution_wall),
+        ] {
+            match v {
+                Some(e) if linear => c.restitution(&key(f), e),
+                Some(_) => c.bad(&key(f), not_linear(m.family).into()),
+                None => {}
+            }
+        }
+        match (s.youngs_modulus, hertz) {
+            (Some(y), true) => c.positive(&key("youngs_modulus"), y),
+            (Some(_), false) => c.bad(&key("youngs_modulus"), not_hertz(m.family).into()),
+            (None, _) => {}
+        }
+        match (s.poisson_ratio, hertz) {
+            (Some(nu), true) => {
+                if !(-1.0 < nu && nu < 0.5) {
+                    c.bad(
+                        &key("poisson_ratio"),
+                        format!("must be in (-1, 0.5), got {nu}"),
+                    );
+                }
+            }
+            (Some(_), false) => c.bad(&key("poisson_ratio"), not_hertz(m.family).into()),
+            (None, _) => {}
+        }
         if let Some(v) = s.volume_fraction {
             if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
                 c.bad(
@@ -385,6 +421,8 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
             }
         }
     }
+
+    check_pairs(case, &mut c);
 
     let i = &case.init;
     match i.kind {
@@ -545,6 +583,124 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
         Ok(())
     } else {
         Err(c.errs)
+    }
+}
+
+/// Why a restitution of a species or pair does not apply to a run that is not of the linear
+/// spring-dashpot law.
+fn not_linear(family: Family) -> &'static str {
+    match family {
+        Family::Rapaport => "does not apply to the rapaport family (its damping is model.gamma_n)",
+        Family::SpringDashpot => {
+            "does not apply to the Hertz normal force (its damping is model.hertz_damping)"
+        }
+    }
+}
+
+/// Why a material constant of a species does not apply to a run without the Hertz law.
+fn not_hertz(family: Family) -> &'static str {
+    match family {
+        Family::Rapaport => "does not apply to the rapaport family",
+        Family::SpringDashpot => {
+            "does not apply to the linear normal force (only with model.normal = \"hertz\")"
+        }
+    }
+}
+
+/// The `[[pairs]]` overrides: two known species, each pair once, values in range and of
+/// the run's model.
+fn check_pairs(case: &Case, c: &mut Checker) {
+    let m = &case.model;
+    let names = || {
+        case.species
+            .iter()
+            .map(|s| s.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut seen: Vec<(usize, usize, usize)> = Vec::new();
+    for (k, p) in case.pairs.iter().enumerate() {
+        let key = |f: &str| format!("pairs.{k}.{f}");
+        if p.species.len() != 2 {
+            c.bad(
+                &key("species"),
+                format!(
+                    "must name two species (the same twice for the pair of one), got {}",
+                    p.species.len()
+                ),
+            );
+        } else {
+            let index: Vec<Option<usize>> = p
+                .species
+                .iter()
+                .map(|n| case.species.iter().position(|s| &s.name == n))
+                .collect();
+            for (n, i) in p.species.iter().zip(&index) {
+                if i.is_none() {
+                    c.bad(
+                        &key("species"),
+                        format!("`{n}` is not the name of a species (they are: {})", names()),
+                    );
+                }
+            }
+            if let [Some(a), Some(b)] = index[..] {
+                let (a, b) = (a.min(b), a.max(b));
+                if let Some(&(j, ..)) = seen.iter().find(|&&(_, x, y)| (x, y) == (a, b)) {
+                    c.bad(
+                        &key("species"),
+                        format!(
+                            "the pair {} / {} is given twice (also pairs.{j})",
+                            p.species[0], p.species[1]
+                        ),
+                    );
+                } else {
+                    seen.push((k, a, b));
+                }
+            }
+        }
+        if p.mu.is_none()
+            && p.mu_roll.is_none()
+            && p.cohesion_energy.is_none()
+            && p.restitution.is_none()
+        {
+            c.bad(
+                &format!("pairs.{k}"),
+                "gives no coefficient (mu, mu_roll, cohesion_energy or restitution)".into(),
+            );
+        }
+        if let Some(mu) = p.mu {
+            c.non_negative(&key("mu"), mu);
+        }
+        for (f, v, on, model_key) in [
+            (
+                "mu_roll",
+                p.mu_roll,
+                m.rolling != Rolling::None,
+                "model.rolling",
+            ),
+            (
+                "cohesion_energy",
+                p.cohesion_energy,
+                m.cohesion != Cohesion::None,
+                "model.cohesion",
+            ),
+        ] {
+            match (v, on) {
+                (Some(v), true) => c.non_negative(&key(f), v),
+                (Some(_), false) => c.bad(
+                    &key(f),
+                    format!("has no effect without {model_key} (it is \"none\")"),
+                ),
+                (None, _) => {}
+            }
+        }
+        match p.restitution {
+            Some(e) if m.family == Family::SpringDashpot && m.normal == Normal::Linear => {
+                c.restitution(&key("restitution"), e)
+            }
+            Some(_) => c.bad(&key("restitution"), not_linear(m.family).into()),
+            None => {}
+        }
     }
 }
 

@@ -6,8 +6,9 @@
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::batch::{
-    Batch, BatchLaw, HertzNormal, HistoryTangential, LinearNormal, NormalPart, RapaportBatch,
-    SpringDashpotBatch, TangentialPart, ViscousTangential, LANES,
+    Batch, BatchLaw, HertzNormal, HertzPairNormal, HistoryTangential, LinearNormal,
+    LinearPairNormal, NormalPart, RapaportBatch, SpringDashpotBatch, TangentialPart,
+    ViscousTangential, LANES,
 };
 use crate::physics::cohesion::{CohesionPart, WithCohesion};
 use crate::physics::integrate::min_image;
@@ -76,6 +77,8 @@ pub fn pair_forces_with(
             NormalLaw::Hertz { kh, gamma_h } => {
                 pass.tangential(isa, HertzNormal { kh, gamma_h }, &sd, p, nl)
             }
+            NormalLaw::LinearPairs => pass.tangential(isa, LinearPairNormal, &sd, p, nl),
+            NormalLaw::HertzPairs => pass.tangential(isa, HertzPairNormal, &sd, p, nl),
         },
     }
 }
@@ -302,6 +305,10 @@ impl Pass<'_> {
             b.mu[l] = fr.mu;
             b.mu_roll[l] = fr.mu_roll;
             b.cohesion[l] = fr.cohesion;
+            if L::PAIR_NORMAL {
+                b.normal_k[l] = fr.normal_k;
+                b.normal_c[l] = fr.normal_c;
+            }
             let k = k as usize;
             for (q, &h) in nl.hist[k * L::WORDS..(k + 1) * L::WORDS].iter().enumerate() {
                 b.hist[q][l] = h;

@@ -56,6 +56,11 @@ pub struct Batch {
     pub mu_roll: Col,
     /// Cohesion energy density `k_c` of the pair's materials.
     pub cohesion: Col,
+    /// The pair's normal stiffness coefficient (`Friction::normal_k`; loaded only for a law
+    /// of per-pair normal coefficients, [`BatchLaw::PAIR_NORMAL`]).
+    pub normal_k: Col,
+    /// The pair's normal damping coefficient (`Friction::normal_c`; likewise).
+    pub normal_c: Col,
     /// History words (the first [`BatchLaw::WORDS`] read and written).
     pub hist: [Col; HISTORY_MAX],
     /// Force on `a` (`b` receives its negative).
@@ -83,6 +88,8 @@ impl Default for Batch {
             mu: z,
             mu_roll: z,
             cohesion: z,
+            normal_k: one,
+            normal_c: z,
             hist: [z; HISTORY_MAX],
             force: [z; 3],
             torque_a: [z; 3],
@@ -95,6 +102,8 @@ impl Default for Batch {
 pub trait BatchLaw: Copy {
     /// History words per contact (the first `WORDS` of `Batch::hist` read and written).
     const WORDS: usize;
+    /// Whether it reads each pair's normal coefficients (`Batch::normal_k`, `normal_c`).
+    const PAIR_NORMAL: bool = false;
     /// Evaluate every lane of `b`: `b.force`, `b.torque_a`, `b.torque_b` and, with a
     /// history, `b.hist`.
     fn eval(&self, b: &mut Batch);
@@ -115,6 +124,8 @@ struct Lane {
     mu: f64,
     mu_roll: f64,
     cohesion: f64,
+    normal_k: f64,
+    normal_c: f64,
 }
 
 impl Batch {
@@ -134,6 +145,8 @@ impl Batch {
             mu: self.mu[l],
             mu_roll: self.mu_roll[l],
             cohesion: self.cohesion[l],
+            normal_k: self.normal_k[l],
+            normal_c: self.normal_c[l],
         }
     }
 
@@ -239,9 +252,12 @@ fn viscous(v_s: [f64; 3], gamma: f64, cap: f64) -> [f64; 3] {
 /// The normal part of a spring-dashpot law: force along `n`, normal stiffness (for the
 /// tangential spring) and dashpot coefficient, as `SpringDashpot::normal`.
 pub trait NormalPart: Copy {
+    /// Whether it reads the pair's own coefficients (`k`, `c` of [`NormalPart::lane`]);
+    /// otherwise it has its constants and the batch's columns are not loaded.
+    const PAIRS: bool;
     /// `(f_n, k_n, dash)` at overlap `a`, normal velocity `vn`, effective mass `m_eff` and
-    /// effective radius `r_eff`.
-    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64) -> (f64, f64, f64);
+    /// effective radius `r_eff`; `k`, `c` are the pair's coefficients when [`Self::PAIRS`].
+    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, k: f64, c: f64) -> (f64, f64, f64);
 }
 
 /// Linear spring and dashpot (`NormalLaw::Linear`).
@@ -254,10 +270,34 @@ pub struct LinearNormal {
 }
 
 impl NormalPart for LinearNormal {
+    const PAIRS: bool = false;
+
     #[inline(always)]
-    fn lane(&self, a: f64, vn: f64, m_eff: f64, _r_eff: f64) -> (f64, f64, f64) {
-        let dash = self.two_gamma * m_eff;
-        (m_eff * (self.k0 * a) - dash * vn, m_eff * self.k0, dash)
+    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, _k: f64, _c: f64) -> (f64, f64, f64) {
+        LinearPairNormal.lane(a, vn, m_eff, r_eff, self.k0, self.two_gamma)
+    }
+}
+
+/// Linear spring and dashpot with each pair's `k0` and `2 gamma_n`
+/// (`NormalLaw::LinearPairs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearPairNormal;
+
+impl NormalPart for LinearPairNormal {
+    const PAIRS: bool = true;
+
+    #[inline(always)]
+    fn lane(
+        &self,
+        a: f64,
+        vn: f64,
+        m_eff: f64,
+        _r_eff: f64,
+        k0: f64,
+        two_gamma: f64,
+    ) -> (f64, f64, f64) {
+        let dash = two_gamma * m_eff;
+        (m_eff * (k0 * a) - dash * vn, m_eff * k0, dash)
     }
 }
 
@@ -271,11 +311,34 @@ pub struct HertzNormal {
 }
 
 impl NormalPart for HertzNormal {
+    const PAIRS: bool = false;
+
     #[inline(always)]
-    fn lane(&self, a: f64, vn: f64, _m_eff: f64, r_eff: f64) -> (f64, f64, f64) {
+    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, _k: f64, _c: f64) -> (f64, f64, f64) {
+        HertzPairNormal.lane(a, vn, m_eff, r_eff, self.kh, self.gamma_h)
+    }
+}
+
+/// Hertz with each pair's `kh` and `gamma_h` (`NormalLaw::HertzPairs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzPairNormal;
+
+impl NormalPart for HertzPairNormal {
+    const PAIRS: bool = true;
+
+    #[inline(always)]
+    fn lane(
+        &self,
+        a: f64,
+        vn: f64,
+        _m_eff: f64,
+        r_eff: f64,
+        kh: f64,
+        gamma_h: f64,
+    ) -> (f64, f64, f64) {
         let sa = a.sqrt();
-        let k = self.kh * r_eff.sqrt() * sa;
-        let dash = self.gamma_h * sa;
+        let k = kh * r_eff.sqrt() * sa;
+        let dash = gamma_h * sa;
         (k * a - dash * vn, 1.5 * k, dash)
     }
 }
@@ -390,6 +453,7 @@ impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
     for SpringDashpotBatch<N, T, R, C>
 {
     const WORDS: usize = T::WORDS + R::WORDS;
+    const PAIR_NORMAL: bool = N::PAIRS;
 
     #[inline(always)]
     fn eval(&self, b: &mut Batch) {
@@ -403,7 +467,9 @@ impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
             let inv_d = 1.0 / (s.da + s.db);
             let vn = dot(n, s.v);
             let r_eff = 0.5 * s.da * s.db * inv_d;
-            let (f_n, k_n, dash) = self.normal.lane(overlap, vn, m_eff, r_eff);
+            let (f_n, k_n, dash) = self
+                .normal
+                .lane(overlap, vn, m_eff, r_eff, s.normal_k, s.normal_c);
             // eq. 2.16: sliding velocity with both spins
             let w_eff = [
                 (s.wa[0] * s.da + s.wb[0] * s.db) * inv_d,

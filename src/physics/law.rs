@@ -3,6 +3,7 @@
 
 use super::cohesion::CohesionLaw;
 use super::contact::{Body, Contact};
+use super::materials::{effective_modulus, hertz_kh, linear_coefficients, Materials};
 use super::rapaport::{self, Friction, V3};
 use super::rolling::RollingLaw;
 use super::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
@@ -37,20 +38,29 @@ impl ContactLaw {
             },
             Family::SpringDashpot => {
                 let e = m.restitution.unwrap_or(1.0);
+                // the model's coefficients; a law whose pairs differ reads each pair's
+                let mat = Materials::new(case);
                 let normal = match m.normal {
                     Normal::Linear => {
-                        let tc = m.collision_time.unwrap_or(1.0);
-                        let gamma = -e.ln() / tc;
-                        NormalLaw::Linear {
-                            k0: (PI / tc) * (PI / tc) + gamma * gamma,
-                            two_gamma: 2.0 * gamma,
+                        let (k0, two_gamma) =
+                            linear_coefficients(e, m.collision_time.unwrap_or(1.0));
+                        if mat.normal_uniform(k0, two_gamma) {
+                            NormalLaw::Linear { k0, two_gamma }
+                        } else {
+                            NormalLaw::LinearPairs
                         }
                     }
                     Normal::Hertz => {
-                        let nu = m.poisson_ratio.unwrap_or(0.0);
-                        NormalLaw::Hertz {
-                            kh: 2.0 * m.youngs_modulus.unwrap_or(0.0) / (3.0 * (1.0 - nu * nu)),
-                            gamma_h: m.hertz_damping.unwrap_or(0.0),
+                        let (y, nu) = (
+                            m.youngs_modulus.unwrap_or(0.0),
+                            m.poisson_ratio.unwrap_or(0.0),
+                        );
+                        let kh = hertz_kh(y, nu, y, nu);
+                        let gamma_h = m.hertz_damping.unwrap_or(0.0);
+                        if mat.normal_uniform(kh, gamma_h) {
+                            NormalLaw::Hertz { kh, gamma_h }
+                        } else {
+                            NormalLaw::HertzPairs
                         }
                     }
                 };
@@ -213,15 +223,16 @@ pub struct StepLimits {
 pub fn step_limits(case: &Case) -> StepLimits {
     let m = &case.model;
     let mass = |d: f64| m.density * PI / 6.0 * d * d * d;
-    // (d_ij, m_eff) of the contacts of the smallest particles, walls included
+    // (d_ij, m_eff, wall, species a, species b) of the contacts of the smallest particles,
+    // walls included
     let mut contacts = Vec::new();
-    for a in &case.species {
+    for (i, a) in case.species.iter().enumerate() {
         let da = smallest_diameter(a);
-        contacts.push((da, mass(da), true));
-        for b in &case.species {
+        contacts.push((da, mass(da), true, i, i));
+        for (j, b) in case.species.iter().enumerate() {
             let db = smallest_diameter(b);
             let (ma, mb) = (mass(da), mass(db));
-            contacts.push((0.5 * (da + db), ma * mb / (ma + mb), false));
+            contacts.push((0.5 * (da + db), ma * mb / (ma + mb), false, i, j));
         }
     }
     let mut t_min = f64::INFINITY;
@@ -233,7 +244,7 @@ pub fn step_limits(case: &Case) -> StepLimits {
                 .iter()
                 .flat_map(|s| [s.gamma_s.unwrap_or(0.0), s.gamma_s_wall.unwrap_or(0.0)])
                 .fold(0.0, f64::max);
-            for &(d, m_eff, wall) in &contacts {
+            for &(d, m_eff, wall, ..) in &contacts {
                 let d_ij = if wall { 0.5 * (d + m.wall_diameter) } else { d };
                 let k = rapaport::contact_stiffness(d_ij);
                 t_min = t_min.min(PI * (m_eff / k).sqrt());
@@ -241,7 +252,15 @@ pub fn step_limits(case: &Case) -> StepLimits {
             }
         }
         Family::SpringDashpot => {
-            let e = m.restitution.unwrap_or(1.0);
+            // the most damped pair or wall: the smallest restitution (a mixed pair's
+            // geometric mean is not below the smaller of its species')
+            let e = case
+                .species
+                .iter()
+                .flat_map(|s| [s.restitution, s.restitution_wall])
+                .chain(case.pairs.iter().map(|p| p.restitution))
+                .flatten()
+                .fold(m.restitution.unwrap_or(1.0), f64::min);
             match m.normal {
                 Normal::Linear => {
                     let tc = m.collision_time.unwrap_or(f64::NAN);
@@ -249,7 +268,7 @@ pub fn step_limits(case: &Case) -> StepLimits {
                     let gamma = -e.ln() / tc;
                     rate = 2.0 * gamma * 3.5;
                     if let Some(gs) = m.gamma_s {
-                        for &(_, m_eff, _) in &contacts {
+                        for &(_, m_eff, ..) in &contacts {
                             rate = rate.max(gs * 3.5 / m_eff);
                         }
                     }
@@ -259,9 +278,17 @@ pub fn step_limits(case: &Case) -> StepLimits {
                     let r = 0.5 * case.drum.diameter;
                     let v = 2.0
                         * (case.drum.omega.abs() * r).max((m.gravity * case.drum.diameter).sqrt());
-                    let nu = m.poisson_ratio.unwrap_or(0.0);
-                    let e_star = m.youngs_modulus.unwrap_or(f64::NAN) / (2.0 * (1.0 - nu * nu));
-                    for &(d, m_eff, wall) in &contacts {
+                    // each species' material (a wall is of the species' material)
+                    let y = |s: usize| {
+                        let sp = &case.species[s];
+                        (
+                            sp.youngs_modulus.or(m.youngs_modulus).unwrap_or(f64::NAN),
+                            sp.poisson_ratio.or(m.poisson_ratio).unwrap_or(0.0),
+                        )
+                    };
+                    for &(d, m_eff, wall, i, j) in &contacts {
+                        let ((y_a, nu_a), (y_b, nu_b)) = (y(i), y(j));
+                        let e_star = effective_modulus(y_a, nu_a, y_b, nu_b);
                         let r_eff = if wall { 0.5 * d } else { 0.25 * d };
                         let t = 2.87 * (m_eff * m_eff / (r_eff * e_star * e_star * v)).powf(0.2);
                         t_min = t_min.min(t);
@@ -288,6 +315,7 @@ pub fn step_limits(case: &Case) -> StepLimits {
             .species
             .iter()
             .flat_map(|s| [s.mu_roll.unwrap_or(0.0), s.mu_roll_wall.unwrap_or(0.0)])
+            .chain(case.pairs.iter().map(|p| p.mu_roll.unwrap_or(0.0)))
             .fold(0.0, f64::max);
         let factor = (5.0 * m.rolling_stiffness * mu_r * mu_r / 7.0).sqrt();
         if factor > 1.0 {

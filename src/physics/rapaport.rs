@@ -25,9 +25,11 @@ pub fn cutoff(d_ij: f64) -> f64 {
     CUTOFF_FACTOR * d_ij
 }
 
-/// The surface coefficients of one pair of materials (or a material and a wall): sliding
-/// and static friction, and for the spring-dashpot family's optional sub-models rolling
-/// friction and cohesion.
+/// The contact coefficients of one pair of materials (or a material and a wall): sliding
+/// and static friction, for the spring-dashpot family's optional sub-models rolling
+/// friction and cohesion, and the pair's own normal coefficients (read by the
+/// spring-dashpot laws whose coefficients differ between pairs, see
+/// `spring_dashpot::NormalLaw::LinearPairs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Friction {
     /// Sliding friction coefficient `gamma_s`.
@@ -39,16 +41,25 @@ pub struct Friction {
     /// Cohesion energy density `k_c` (simplified JKR: an attraction `k_c A` over the contact
     /// area `A`).
     pub cohesion: f64,
+    /// Normal stiffness coefficient of the pair: `k0 = (pi/t_c)^2 + gamma_n^2` of the linear
+    /// law, `kh = 4 Y* / 3` of Hertz (0 in the Rapaport family).
+    pub normal_k: f64,
+    /// Normal damping coefficient of the pair: `2 gamma_n` of the linear law, `gamma_h` of
+    /// Hertz (0 in the Rapaport family).
+    pub normal_c: f64,
 }
 
 impl Friction {
-    /// Sliding and static friction only (no rolling friction, no cohesion).
+    /// Sliding and static friction only (no rolling friction, no cohesion, no normal
+    /// coefficients of its own).
     pub const fn sliding(gamma_s: f64, mu: f64) -> Self {
         Friction {
             gamma_s,
             mu,
             mu_roll: 0.0,
             cohesion: 0.0,
+            normal_k: 0.0,
+            normal_c: 0.0,
         }
     }
 }

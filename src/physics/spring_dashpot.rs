@@ -36,6 +36,28 @@ pub enum NormalLaw {
         /// Damping coefficient `gamma_n^n`.
         gamma_h: f64,
     },
+    /// The linear law with each pair's own `k0` and `2 gamma_n` (`Friction::normal_k`,
+    /// `Friction::normal_c`): the run's species or pairs differ in restitution.
+    LinearPairs,
+    /// Hertz with each pair's own `kh` and `gamma_h` (`Friction::normal_k`,
+    /// `Friction::normal_c`): the run's species differ in material.
+    HertzPairs,
+}
+
+impl NormalLaw {
+    #[inline(always)]
+    fn linear(k0: f64, two_gamma: f64, a: f64, vn: f64, m_eff: f64) -> (f64, f64, f64) {
+        let dash = two_gamma * m_eff;
+        (m_eff * (k0 * a) - dash * vn, m_eff * k0, dash)
+    }
+
+    #[inline(always)]
+    fn hertz(kh: f64, gamma_h: f64, a: f64, vn: f64, r_eff: f64) -> (f64, f64, f64) {
+        let sa = a.sqrt();
+        let k = kh * r_eff.sqrt() * sa;
+        let dash = gamma_h * sa;
+        (k * a - dash * vn, 1.5 * k, dash)
+    }
 }
 
 /// Tangential force law.
@@ -72,20 +94,22 @@ pub struct SpringDashpot {
 
 impl SpringDashpot {
     /// Normal force magnitude along `n`, normal stiffness (for `k_s`) and dashpot coefficient;
-    /// `r_eff` is asked for only by the Hertz law.
+    /// `r_eff` is asked for only by the Hertz law, `fr` only by a law of per-pair
+    /// coefficients.
     #[inline]
-    fn normal(&self, a: f64, vn: f64, m_eff: f64, r_eff: impl Fn() -> f64) -> (f64, f64, f64) {
+    fn normal(
+        &self,
+        a: f64,
+        vn: f64,
+        m_eff: f64,
+        r_eff: impl Fn() -> f64,
+        fr: &Friction,
+    ) -> (f64, f64, f64) {
         match self.normal {
-            NormalLaw::Linear { k0, two_gamma } => {
-                let dash = two_gamma * m_eff;
-                (m_eff * (k0 * a) - dash * vn, m_eff * k0, dash)
-            }
-            NormalLaw::Hertz { kh, gamma_h } => {
-                let sa = a.sqrt();
-                let k = kh * r_eff().sqrt() * sa;
-                let dash = gamma_h * sa;
-                (k * a - dash * vn, 1.5 * k, dash)
-            }
+            NormalLaw::Linear { k0, two_gamma } => NormalLaw::linear(k0, two_gamma, a, vn, m_eff),
+            NormalLaw::Hertz { kh, gamma_h } => NormalLaw::hertz(kh, gamma_h, a, vn, r_eff()),
+            NormalLaw::LinearPairs => NormalLaw::linear(fr.normal_k, fr.normal_c, a, vn, m_eff),
+            NormalLaw::HertzPairs => NormalLaw::hertz(fr.normal_k, fr.normal_c, a, vn, r_eff()),
         }
     }
 
@@ -172,7 +196,7 @@ impl SpringDashpot {
         let inv_d = 1.0 / (a.d + b.d);
         let v = a.v - b.v;
         let vn = n.dot(&v);
-        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || 0.5 * a.d * b.d * inv_d);
+        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || 0.5 * a.d * b.d * inv_d, &fr);
         // eq. 2.16: sliding velocity with both spins
         let w_eff = (a.w * a.d + b.w * b.d) * inv_d;
         let v_s = v - n * vn - w_eff.cross(&r);
@@ -224,7 +248,7 @@ impl SpringDashpot {
         let m_eff = 1.0 / p.inv_mass;
         let v = p.v - v_wall;
         let vn = n.dot(&v);
-        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || half);
+        let (f_n, k_n, dash) = self.normal(overlap, vn, m_eff, || half, &fr);
         // the particle's surface point at the contact moves with v - (d/2) w x n
         let v_s = v - n * vn - p.w.cross(&n) * half;
         let tw = self.tangential_words();
