@@ -114,6 +114,8 @@ fn hertz_sjkr_pull_off_force_is_as_the_bond_arithmetic_says() {
             mu: 0.5,
             mu_roll: 0.0,
             cohesion: k_c,
+            normal_k: kh,
+            normal_c: case.model.hertz_damping.unwrap(),
         };
         let r_eff = 0.25 * d;
         let (c, k) = (2.0 * PI * k_c * r_eff, kh * r_eff.sqrt());
