@@ -52,6 +52,18 @@ impl Checker {
             self.bad(key, format!("must be zero or positive, got {x}"));
         }
     }
+    /// A sub-model's coefficient: zero or positive when `on`, refused when given while
+    /// `model_key` is "none".
+    fn sub_model_value(&mut self, key: &str, x: Option<f64>, on: bool, model_key: &str) {
+        match (x, on) {
+            (Some(v), true) => self.non_negative(key, v),
+            (Some(_), false) => self.bad(
+                key,
+                format!("has no effect without {model_key} (it is \"none\")"),
+            ),
+            (None, _) => {}
+        }
+    }
     fn required(&mut self, key: &str, x: Option<f64>, why: &str) -> f64 {
         match x {
             Some(v) if v.is_finite() => v,
@@ -371,14 +383,7 @@ pub fn validate(case: &Case) -> Result<(), Vec<CaseError>> {
         ];
         for (on, model_key, group) in groups {
             for (f, v) in group {
-                match (v, on) {
-                    (Some(v), true) => c.non_negative(&key(f), v),
-                    (Some(_), false) => c.bad(
-                        &key(f),
-                        format!("has no effect without {model_key} (it is \"none\")"),
-                    ),
-                    (None, _) => {}
-                }
+                c.sub_model_value(&key(f), v, on, model_key);
             }
         }
         // the normal coefficients of a species: restitution for the linear law, the material
@@ -685,14 +690,7 @@ fn check_pairs(case: &Case, c: &mut Checker) {
                 "model.cohesion",
             ),
         ] {
-            match (v, on) {
-                (Some(v), true) => c.non_negative(&key(f), v),
-                (Some(_), false) => c.bad(
-                    &key(f),
-                    format!("has no effect without {model_key} (it is \"none\")"),
-                ),
-                (None, _) => {}
-            }
+            c.sub_model_value(&key(f), v, on, model_key);
         }
         match p.restitution {
             Some(e) if m.family == Family::SpringDashpot && m.normal == Normal::Linear => {
