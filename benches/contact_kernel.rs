@@ -17,7 +17,7 @@ use tumbler::engine::neighbor::{Grid, NeighborList};
 use tumbler::particles::{ParticleState, Particles};
 use tumbler::physics::cohesion::CohesionLaw;
 use tumbler::physics::rolling::RollingLaw;
-use tumbler::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
+use tumbler::physics::slots::{NormalLaw, TangentialLaw};
 use tumbler::physics::{ContactLaw, Materials};
 
 /// `side^3` particles of diameter about `d` on a lattice of spacing `0.97 d`, jittered.
@@ -95,7 +95,7 @@ fn bench_law(c: &mut Criterion, name: &str, law: ContactLaw, mat: &Materials, d:
 fn kernels(c: &mut Criterion) {
     let sd = case("sd_capped.toml");
     let mat = Materials::new(&sd);
-    let plain = SpringDashpot {
+    let plain = ContactLaw {
         normal: NormalLaw::Linear {
             k0: 1.0e7,
             two_gamma: 60.0,
@@ -107,7 +107,7 @@ fn kernels(c: &mut Criterion) {
         rolling: RollingLaw::None,
         cohesion: CohesionLaw::None,
     };
-    let law = ContactLaw::SpringDashpot(plain);
+    let law = plain;
     bench_law(c, "spring-dashpot history", law, &mat, 0.0025);
     // the same with each pair's own normal coefficients (restitution per species and a
     // [[pairs]] override): what gathering them costs
@@ -122,10 +122,10 @@ fn kernels(c: &mut Criterion) {
         cohesion_energy: None,
         restitution: Some(0.7),
     });
-    let law = ContactLaw::SpringDashpot(SpringDashpot {
+    let law = ContactLaw {
         normal: NormalLaw::LinearPairs,
         ..plain
-    });
+    };
     bench_law(
         c,
         "spring-dashpot history, per-pair normal",
@@ -139,7 +139,7 @@ fn kernels(c: &mut Criterion) {
         s.mu_roll = Some(0.3);
         s.cohesion_energy = Some(2.0e4);
     }
-    let law = ContactLaw::SpringDashpot(SpringDashpot {
+    let law = ContactLaw {
         rolling: RollingLaw::Sds {
             stiffness: 2.25,
             damping: 0.3,
@@ -147,7 +147,7 @@ fn kernels(c: &mut Criterion) {
         },
         cohesion: CohesionLaw::Sjkr,
         ..plain
-    });
+    };
     bench_law(
         c,
         "spring-dashpot history + rolling sds + sjkr",

@@ -146,3 +146,88 @@ fn common_case() -> String {
     ))
     .unwrap()
 }
+
+/// Rapaport's law is a composition of the contact law's slots (its repulsion and dashpot
+/// as the normal slot, viscous sliding with each pair's `gamma_s` as the tangential one):
+/// the composed law gives the same bits as the paper's formulas written out in
+/// `rapaport::pair` and `rapaport::wall`, touching or not, for pairs and walls.
+#[test]
+fn the_composed_rapaport_law_is_the_papers_formulas_bit_for_bit() {
+    use rand::{Rng, SeedableRng};
+    use tumbler::physics::slots::{NormalLaw, TangentialLaw};
+    use tumbler::physics::{Body, Contact, ContactLaw};
+    let (gamma_n, wall_diameter) = (5.0, 1.3);
+    let law = ContactLaw {
+        normal: NormalLaw::Rapaport {
+            gamma_n,
+            wall_diameter,
+        },
+        tangential: TangentialLaw::ViscousPairs,
+        rolling: Default::default(),
+        cohesion: tumbler::physics::cohesion::CohesionLaw::None,
+    };
+    assert_eq!(law.history_words(), 0);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2002);
+    let mut v3 = |s: f64| {
+        V3::new(
+            rng.gen_range(-s..s),
+            rng.gen_range(-s..s),
+            rng.gen_range(-s..s),
+        )
+    };
+    let bits = |c: Option<Contact>| {
+        c.map(|c| {
+            [c.force, c.n_cross_fs, c.torque_roll]
+                .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+        })
+    };
+    let (mut touching, mut apart) = (0, 0);
+    for k in 0..20_000 {
+        let (da, db) = (
+            0.8 + 0.2 * (k % 5) as f64 / 4.0,
+            0.8 + 0.05 * (k % 7) as f64,
+        );
+        let fr = Friction::sliding(0.5 + (k % 3) as f64 * 4.0, 0.1 * (k % 6) as f64);
+        let r = v3(1.0);
+        let a = Body {
+            v: v3(2.0),
+            w: v3(3.0),
+            d: da,
+            inv_mass: 1.0 / (da * da * da),
+        };
+        let b = Body {
+            v: v3(2.0),
+            w: v3(3.0),
+            d: db,
+            inv_mass: 1.0 / (db * db * db),
+        };
+        let paper = rapaport::pair(r, a.v, b.v, a.w, b.w, da, db, gamma_n, fr);
+        if paper.is_some() {
+            touching += 1;
+        } else {
+            apart += 1;
+        }
+        assert_eq!(
+            bits(law.pair(r, &a, &b, fr, &mut [])),
+            bits(paper),
+            "pair {k}"
+        );
+        let v_wall = v3(1.0);
+        let paper = rapaport::wall(r, a.v, a.w, v_wall, 0.5 * (da + wall_diameter), gamma_n, fr);
+        assert_eq!(
+            bits(law.wall(r, &a, v_wall, V3::zeros(), fr, &mut [])),
+            bits(paper),
+            "wall {k}"
+        );
+    }
+    assert!(
+        touching > 5000 && apart > 5000,
+        "{touching} touching, {apart} apart"
+    );
+    // its ranges are the paper's cutoffs
+    assert_eq!(law.cutoff(1.0, 0.8), rapaport::cutoff(0.9));
+    assert_eq!(
+        law.wall_reach(0.8),
+        rapaport::cutoff(0.5 * (0.8 + wall_diameter))
+    );
+}

@@ -6,15 +6,15 @@
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::batch::{
-    Batch, BatchLaw, HertzNormal, HertzPairNormal, HistoryTangential, LinearNormal,
-    LinearPairNormal, NormalPart, RapaportBatch, SpringDashpotBatch, TangentialPart,
+    Batch, BatchLaw, Composed, HertzNormal, HertzPairNormal, HistoryTangential, LinearNormal,
+    LinearPairNormal, NormalPart, RapaportNormal, TangentialPart, ViscousPairTangential,
     ViscousTangential, LANES,
 };
 use crate::physics::cohesion::{CohesionPart, WithCohesion};
 use crate::physics::integrate::min_image;
 use crate::physics::rolling::{RollingPart, WithRolling};
 use crate::physics::rough_wall::is_fixed;
-use crate::physics::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
+use crate::physics::slots::{NormalLaw, TangentialLaw};
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
 #[inline]
@@ -68,18 +68,18 @@ pub fn pair_forces_with(
         scale,
         law,
     };
-    match *law {
-        ContactLaw::Rapaport { gamma_n, .. } => pass.run(isa, &RapaportBatch { gamma_n }, p, nl),
-        ContactLaw::SpringDashpot(sd) => match sd.normal {
-            NormalLaw::Linear { k0, two_gamma } => {
-                pass.tangential(isa, LinearNormal { k0, two_gamma }, &sd, p, nl)
-            }
-            NormalLaw::Hertz { kh, gamma_h } => {
-                pass.tangential(isa, HertzNormal { kh, gamma_h }, &sd, p, nl)
-            }
-            NormalLaw::LinearPairs => pass.tangential(isa, LinearPairNormal, &sd, p, nl),
-            NormalLaw::HertzPairs => pass.tangential(isa, HertzPairNormal, &sd, p, nl),
-        },
+    match law.normal {
+        NormalLaw::Linear { k0, two_gamma } => {
+            pass.tangential(isa, LinearNormal { k0, two_gamma }, p, nl)
+        }
+        NormalLaw::Hertz { kh, gamma_h } => {
+            pass.tangential(isa, HertzNormal { kh, gamma_h }, p, nl)
+        }
+        NormalLaw::LinearPairs => pass.tangential(isa, LinearPairNormal, p, nl),
+        NormalLaw::HertzPairs => pass.tangential(isa, HertzPairNormal, p, nl),
+        NormalLaw::Rapaport { gamma_n, .. } => {
+            pass.tangential(isa, RapaportNormal { gamma_n }, p, nl)
+        }
     }
 }
 
@@ -150,23 +150,23 @@ struct Pass<'a> {
     law: &'a ContactLaw,
 }
 
-// A spring-dashpot law's slots are chosen one at a time, each match turning the run's
-// value into a type, so that the composition is one monomorphised pass.
+// A law's slots are chosen one at a time, each match turning the run's value into a type,
+// so that the composition is one monomorphised pass.
 impl Pass<'_> {
     fn tangential<N: NormalPart>(
         self,
         isa: Isa,
         normal: N,
-        sd: &SpringDashpot,
         p: &mut Particles,
         nl: &mut NeighborList,
     ) {
-        match sd.tangential {
+        match self.law.tangential {
             TangentialLaw::Viscous { gamma_s } => {
-                self.rolling(isa, normal, ViscousTangential { gamma_s }, sd, p, nl)
+                self.rolling(isa, normal, ViscousTangential { gamma_s }, p, nl)
             }
+            TangentialLaw::ViscousPairs => self.rolling(isa, normal, ViscousPairTangential, p, nl),
             TangentialLaw::History { ratio, dt } => {
-                self.rolling(isa, normal, HistoryTangential { ratio, dt }, sd, p, nl)
+                self.rolling(isa, normal, HistoryTangential { ratio, dt }, p, nl)
             }
         }
     }
@@ -176,20 +176,18 @@ impl Pass<'_> {
         isa: Isa,
         normal: N,
         tangential: T,
-        sd: &SpringDashpot,
         p: &mut Particles,
         nl: &mut NeighborList,
     ) {
-        sd.rolling.visit(Compose {
+        self.law.rolling.visit(Compose {
             pass: self,
             isa,
-            law: SpringDashpotBatch {
+            law: Composed {
                 normal,
                 tangential,
                 rolling: (),
                 cohesion: (),
             },
-            sd,
             p,
             nl,
         })
@@ -339,35 +337,32 @@ impl Pass<'_> {
     }
 }
 
-/// A spring-dashpot law being made a type slot by slot: the rolling and cohesion models
-/// turn themselves into types ([`WithRolling`], [`WithCohesion`]), then the pass runs.
+/// A law being made a type slot by slot: the rolling and cohesion models turn themselves
+/// into types ([`WithRolling`], [`WithCohesion`]), then the pass runs.
 struct Compose<'a, 'b, L> {
     pass: Pass<'a>,
     isa: Isa,
     law: L,
-    sd: &'b SpringDashpot,
     p: &'b mut Particles,
     nl: &'b mut NeighborList,
 }
 
 impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling
-    for Compose<'a, 'b, SpringDashpotBatch<N, T, (), ()>>
+    for Compose<'a, 'b, Composed<N, T, (), ()>>
 {
     type Out = ();
     fn with<R: RollingPart>(self, rolling: R) {
         let l = self.law;
-        let law = SpringDashpotBatch {
+        let law = Composed {
             normal: l.normal,
             tangential: l.tangential,
             rolling,
             cohesion: (),
         };
-        let sd = self.sd;
-        sd.cohesion.visit(Compose {
+        self.pass.law.cohesion.visit(Compose {
             pass: self.pass,
             isa: self.isa,
             law,
-            sd,
             p: self.p,
             nl: self.nl,
         })
@@ -375,12 +370,12 @@ impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling
 }
 
 impl<'a, 'b, N: NormalPart, T: TangentialPart, R: RollingPart> WithCohesion
-    for Compose<'a, 'b, SpringDashpotBatch<N, T, R, ()>>
+    for Compose<'a, 'b, Composed<N, T, R, ()>>
 {
     type Out = ();
     fn with<C: CohesionPart>(self, cohesion: C) {
         let l = self.law;
-        let law = SpringDashpotBatch {
+        let law = Composed {
             normal: l.normal,
             tangential: l.tangential,
             rolling: l.rolling,

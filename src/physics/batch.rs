@@ -3,8 +3,7 @@
 //! The pair pass (`engine/forces.rs`) first picks out the listed pairs that touch, then hands
 //! them to these kernels [`LANES`] at a time in struct-of-arrays form ([`Batch`]). Each lane
 //! performs exactly the IEEE operations, in the same order, of the scalar laws of
-//! [`super::rapaport`] and [`super::spring_dashpot`] (which stay the reference, and serve the
-//! walls): their branches become selects whose other side is computed and discarded, so the
+//! [`super::ContactLaw`] (which stays the reference, and serves the walls): their branches become selects whose other side is computed and discarded, so the
 //! loops over the lanes have no branch and the compiler vectorises them. Rust never
 //! contracts `a * b + c` into a fused multiply-add nor uses approximate reciprocals, and
 //! IEEE division and square root are correctly rounded in every width, so a lane gives the
@@ -13,8 +12,9 @@
 //!
 //! A law is a type implementing [`BatchLaw`], chosen once per force pass from the run's
 //! [`ContactLaw`](super::ContactLaw), so the inner loop is monomorphised: no dispatch per
-//! contact. The spring-dashpot law is composed of a normal part ([`NormalPart`]) and a
-//! tangential part ([`TangentialPart`]), each a small type with one inlined lane function.
+//! contact. A law is composed ([`Composed`]) of a normal part ([`NormalPart`]), a
+//! tangential part ([`TangentialPart`]), rolling resistance and cohesion, each a small
+//! type with one inlined lane function; Rapaport's law is one such composition.
 
 use super::cohesion::{CohesionPart, NoCohesion};
 use super::contact::HISTORY_MAX;
@@ -196,50 +196,6 @@ pub(super) fn select3(c: bool, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// Rapaport's law (`rapaport::pair`) on a batch.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RapaportBatch {
-    /// Normal damping coefficient.
-    pub gamma_n: f64,
-}
-
-impl BatchLaw for RapaportBatch {
-    const WORDS: usize = 0;
-
-    #[inline(always)]
-    fn eval(&self, b: &mut Batch) {
-        for l in 0..LANES {
-            let s = b.lane(l);
-            let d_ab = 0.5 * (s.da + s.db);
-            let rr = dot(s.r, s.r).sqrt();
-            let n = [s.r[0] / rr, s.r[1] / rr, s.r[2] / rr];
-            let vn = dot(n, s.v);
-            // eq. (1), zero at and beyond the cutoff (the pass's test is on r^2)
-            let rep = super::rapaport::repulsion(rr, d_ab);
-            let f_n = rep - self.gamma_n * vn;
-            let sum_d = s.da + s.db;
-            let w_eff = [
-                (s.wa[0] * s.da + s.wb[0] * s.db) / sum_d,
-                (s.wa[1] * s.da + s.wb[1] * s.db) / sum_d,
-                (s.wa[2] * s.da + s.wb[2] * s.db) / sum_d,
-            ];
-            let wxr = cross(w_eff, s.r);
-            let v_s = [
-                s.v[0] - n[0] * vn - wxr[0],
-                s.v[1] - n[1] * vn - wxr[1],
-                s.v[2] - n[2] * vn - wxr[2],
-            ];
-            let f_s = viscous(v_s, s.gamma_s, s.mu * f_n.abs());
-            let force = [
-                n[0] * f_n + f_s[0],
-                n[1] * f_n + f_s[1],
-                n[2] * f_n + f_s[2],
-            ];
-            b.put(l, force, cross(n, f_s), s.da, s.db);
-        }
-    }
-}
-
 /// `-min(gamma |v_s|, cap) v_s/|v_s|`, zero when `v_s` is.
 #[inline(always)]
 fn viscous(v_s: [f64; 3], gamma: f64, cap: f64) -> [f64; 3] {
@@ -249,15 +205,28 @@ fn viscous(v_s: [f64; 3], gamma: f64, cap: f64) -> [f64; 3] {
     select3(vs == 0.0, [0.0; 3], f)
 }
 
-/// The normal part of a spring-dashpot law: force along `n`, normal stiffness (for the
-/// tangential spring) and dashpot coefficient, as `SpringDashpot::normal`.
+/// The normal slot of a law: force along `n`, normal stiffness (for the tangential and
+/// rolling springs) and dashpot coefficient, as `NormalLaw::force`.
 pub trait NormalPart: Copy {
     /// Whether it reads the pair's own coefficients (`k`, `c` of [`NormalPart::lane`]);
     /// otherwise it has its constants and the batch's columns are not loaded.
     const PAIRS: bool;
-    /// `(f_n, k_n, dash)` at overlap `a`, normal velocity `vn`, effective mass `m_eff` and
-    /// effective radius `r_eff`; `k`, `c` are the pair's coefficients when [`Self::PAIRS`].
-    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, k: f64, c: f64) -> (f64, f64, f64);
+    /// Whether the law keeps its paper's divisions (`NormalLaw::divides`).
+    const DIVIDES: bool = false;
+    /// `(f_n, k_n, dash)` at centre distance `rr` and contact diameter `d_ab`, normal
+    /// velocity `vn`, effective mass `m_eff` and effective radius `r_eff`; `k`, `c` are the
+    /// pair's coefficients when [`Self::PAIRS`].
+    #[allow(clippy::too_many_arguments)]
+    fn lane(
+        &self,
+        rr: f64,
+        d_ab: f64,
+        vn: f64,
+        m_eff: f64,
+        r_eff: f64,
+        k: f64,
+        c: f64,
+    ) -> (f64, f64, f64);
 }
 
 /// Linear spring and dashpot (`NormalLaw::Linear`).
@@ -273,8 +242,8 @@ impl NormalPart for LinearNormal {
     const PAIRS: bool = false;
 
     #[inline(always)]
-    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, _k: f64, _c: f64) -> (f64, f64, f64) {
-        LinearPairNormal.lane(a, vn, m_eff, r_eff, self.k0, self.two_gamma)
+    fn lane(&self, rr: f64, d_ab: f64, vn: f64, m_eff: f64, r_eff: f64, _: f64, _: f64) -> Out3 {
+        LinearPairNormal.lane(rr, d_ab, vn, m_eff, r_eff, self.k0, self.two_gamma)
     }
 }
 
@@ -289,13 +258,15 @@ impl NormalPart for LinearPairNormal {
     #[inline(always)]
     fn lane(
         &self,
-        a: f64,
+        rr: f64,
+        d_ab: f64,
         vn: f64,
         m_eff: f64,
         _r_eff: f64,
         k0: f64,
         two_gamma: f64,
-    ) -> (f64, f64, f64) {
+    ) -> Out3 {
+        let a = d_ab - rr;
         let dash = two_gamma * m_eff;
         (m_eff * (k0 * a) - dash * vn, m_eff * k0, dash)
     }
@@ -314,8 +285,8 @@ impl NormalPart for HertzNormal {
     const PAIRS: bool = false;
 
     #[inline(always)]
-    fn lane(&self, a: f64, vn: f64, m_eff: f64, r_eff: f64, _k: f64, _c: f64) -> (f64, f64, f64) {
-        HertzPairNormal.lane(a, vn, m_eff, r_eff, self.kh, self.gamma_h)
+    fn lane(&self, rr: f64, d_ab: f64, vn: f64, m_eff: f64, r_eff: f64, _: f64, _: f64) -> Out3 {
+        HertzPairNormal.lane(rr, d_ab, vn, m_eff, r_eff, self.kh, self.gamma_h)
     }
 }
 
@@ -329,13 +300,15 @@ impl NormalPart for HertzPairNormal {
     #[inline(always)]
     fn lane(
         &self,
-        a: f64,
+        rr: f64,
+        d_ab: f64,
         vn: f64,
         _m_eff: f64,
         r_eff: f64,
         kh: f64,
         gamma_h: f64,
-    ) -> (f64, f64, f64) {
+    ) -> Out3 {
+        let a = d_ab - rr;
         let sa = a.sqrt();
         let k = kh * r_eff.sqrt() * sa;
         let dash = gamma_h * sa;
@@ -343,7 +316,32 @@ impl NormalPart for HertzPairNormal {
     }
 }
 
-/// The tangential part of a spring-dashpot law, as `SpringDashpot::tangential`.
+/// Rapaport's repulsion and dashpot (`NormalLaw::Rapaport`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RapaportNormal {
+    /// Normal damping coefficient.
+    pub gamma_n: f64,
+}
+
+impl NormalPart for RapaportNormal {
+    const PAIRS: bool = false;
+    const DIVIDES: bool = true;
+
+    #[inline(always)]
+    fn lane(&self, rr: f64, d_ab: f64, vn: f64, _: f64, _: f64, _: f64, _: f64) -> Out3 {
+        // eq. (1), zero at and beyond the cutoff (the pass's test is on r^2), and eq. (2)
+        (
+            super::rapaport::repulsion(rr, d_ab) - self.gamma_n * vn,
+            super::rapaport::contact_stiffness(d_ab),
+            self.gamma_n,
+        )
+    }
+}
+
+/// A normal slot's `(f_n, k_n, dash)`.
+type Out3 = (f64, f64, f64);
+
+/// The tangential slot of a law, as `TangentialLaw::force`.
 pub trait TangentialPart: Copy {
     /// History words it keeps (0 or 3).
     const WORDS: usize;
@@ -356,6 +354,7 @@ pub trait TangentialPart: Copy {
         f_n: f64,
         k_n: f64,
         dash: f64,
+        gamma_s: f64,
         mu: f64,
         hist: &mut [f64; 3],
     ) -> [f64; 3];
@@ -379,10 +378,34 @@ impl TangentialPart for ViscousTangential {
         f_n: f64,
         _k_n: f64,
         dash: f64,
+        _gamma_s: f64,
         mu: f64,
         _hist: &mut [f64; 3],
     ) -> [f64; 3] {
         viscous(v_s, self.gamma_s.unwrap_or(dash), mu * f_n.abs())
+    }
+}
+
+/// Viscous with a Coulomb cap and each pair's `gamma_s` (`TangentialLaw::ViscousPairs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViscousPairTangential;
+
+impl TangentialPart for ViscousPairTangential {
+    const WORDS: usize = 0;
+
+    #[inline(always)]
+    fn lane(
+        &self,
+        _n: [f64; 3],
+        v_s: [f64; 3],
+        f_n: f64,
+        _k_n: f64,
+        _dash: f64,
+        gamma_s: f64,
+        mu: f64,
+        _hist: &mut [f64; 3],
+    ) -> [f64; 3] {
+        viscous(v_s, gamma_s, mu * f_n.abs())
     }
 }
 
@@ -406,6 +429,7 @@ impl TangentialPart for HistoryTangential {
         f_n: f64,
         k_n: f64,
         _dash: f64,
+        _gamma_s: f64,
         mu: f64,
         hist: &mut [f64; 3],
     ) -> [f64; 3] {
@@ -435,10 +459,10 @@ impl TangentialPart for HistoryTangential {
     }
 }
 
-/// A spring-dashpot law on a batch: normal part `N`, tangential part `T`, rolling `R` and
+/// A composed law on a batch: normal part `N`, tangential part `T`, rolling `R` and
 /// cohesion `C`. Each is a type, so a run's composition is one monomorphised loop.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpringDashpotBatch<N, T, R = NoRolling, C = NoCohesion> {
+pub struct Composed<N, T, R = NoRolling, C = NoCohesion> {
     /// Normal part.
     pub normal: N,
     /// Tangential part.
@@ -450,7 +474,7 @@ pub struct SpringDashpotBatch<N, T, R = NoRolling, C = NoCohesion> {
 }
 
 impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
-    for SpringDashpotBatch<N, T, R, C>
+    for Composed<N, T, R, C>
 {
     const WORDS: usize = T::WORDS + R::WORDS;
     const PAIR_NORMAL: bool = N::PAIRS;
@@ -461,21 +485,33 @@ impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
             let s = b.lane(l);
             let d_ab = 0.5 * (s.da + s.db);
             let rr = dot(s.r, s.r).sqrt();
-            let n = scale(s.r, 1.0 / rr);
-            let overlap = d_ab - rr;
+            let n = if N::DIVIDES {
+                [s.r[0] / rr, s.r[1] / rr, s.r[2] / rr]
+            } else {
+                scale(s.r, 1.0 / rr)
+            };
             let m_eff = 1.0 / (s.ima + s.imb);
             let inv_d = 1.0 / (s.da + s.db);
             let vn = dot(n, s.v);
             let r_eff = 0.5 * s.da * s.db * inv_d;
             let (f_n, k_n, dash) = self
                 .normal
-                .lane(overlap, vn, m_eff, r_eff, s.normal_k, s.normal_c);
-            // eq. 2.16: sliding velocity with both spins
-            let w_eff = [
-                (s.wa[0] * s.da + s.wb[0] * s.db) * inv_d,
-                (s.wa[1] * s.da + s.wb[1] * s.db) * inv_d,
-                (s.wa[2] * s.da + s.wb[2] * s.db) * inv_d,
-            ];
+                .lane(rr, d_ab, vn, m_eff, r_eff, s.normal_k, s.normal_c);
+            // sliding velocity with both spins (thesis eq. 2.16, Rapaport eq. 3)
+            let w_eff = if N::DIVIDES {
+                let sum_d = s.da + s.db;
+                [
+                    (s.wa[0] * s.da + s.wb[0] * s.db) / sum_d,
+                    (s.wa[1] * s.da + s.wb[1] * s.db) / sum_d,
+                    (s.wa[2] * s.da + s.wb[2] * s.db) / sum_d,
+                ]
+            } else {
+                [
+                    (s.wa[0] * s.da + s.wb[0] * s.db) * inv_d,
+                    (s.wa[1] * s.da + s.wb[1] * s.db) * inv_d,
+                    (s.wa[2] * s.da + s.wb[2] * s.db) * inv_d,
+                ]
+            };
             let wxr = cross(w_eff, s.r);
             let v_s = [
                 s.v[0] - n[0] * vn - wxr[0],
@@ -483,7 +519,9 @@ impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
                 s.v[2] - n[2] * vn - wxr[2],
             ];
             let mut h = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
-            let f_s = self.tangential.lane(n, v_s, f_n, k_n, dash, s.mu, &mut h);
+            let f_s = self
+                .tangential
+                .lane(n, v_s, f_n, k_n, dash, s.gamma_s, s.mu, &mut h);
             if T::WORDS > 0 {
                 for (k, hk) in h.iter().enumerate() {
                     b.hist[k][l] = *hk;

@@ -1,41 +1,51 @@
-//! The contact law of a run, chosen once from the case: an enum dispatched per contact,
-//! never a trait object in the inner loop.
+//! The contact law of a run: one composition of the sub-model slots, chosen once from the
+//! case, in the manner of LAMMPS' `pair granular`. A normal slot (linear, Hertz, Rapaport;
+//! each with its damping), a tangential slot (viscous, Cundall-Strack), rolling resistance
+//! and cohesion ([`super::slots`], [`super::rolling`], [`super::cohesion`]). Here the slots
+//! are matched per contact (the scalar form, which serves the walls and is the pair pass's
+//! reference); the batched pair pass turns each slot into a type instead, so that its
+//! inner loop is monomorphised (`engine::forces`).
 
 use super::cohesion::CohesionLaw;
 use super::contact::{Body, Contact};
 use super::materials::{effective_modulus, hertz_kh, linear_coefficients, Materials};
 use super::rapaport::{self, Friction, V3};
-use super::rolling::RollingLaw;
-use super::spring_dashpot::{NormalLaw, SpringDashpot, TangentialLaw};
+use super::rolling::{inv_inertia_at_surface, RollingLaw};
+use super::slots::{NormalLaw, TangentialLaw};
 use crate::case::{Case, Family, Normal, Rolling, Tangential};
 use std::f64::consts::PI;
 
 /// Fewest steps per binary contact accepted by the time-step check.
 pub const STEPS_PER_CONTACT_MIN: f64 = 5.0;
 
-/// A run's contact law.
+/// A run's contact law: a normal and a tangential slot, and the optional rolling and
+/// cohesion sub-models.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ContactLaw {
-    /// Rapaport (2002) section III.
-    Rapaport {
-        /// Normal damping coefficient.
-        gamma_n: f64,
-        /// Diameter attributed to the walls.
-        wall_diameter: f64,
-    },
-    /// The thesis' spring-dashpot laws.
-    SpringDashpot(SpringDashpot),
+pub struct ContactLaw {
+    /// Normal part, with its damping.
+    pub normal: NormalLaw,
+    /// Tangential part.
+    pub tangential: TangentialLaw,
+    /// Rolling resistance.
+    pub rolling: RollingLaw,
+    /// Cohesion.
+    pub cohesion: CohesionLaw,
 }
 
 impl ContactLaw {
     /// The law of `case`.
     pub fn new(case: &Case) -> Self {
         let m = &case.model;
-        match m.family {
-            Family::Rapaport => ContactLaw::Rapaport {
-                gamma_n: m.gamma_n.unwrap_or(0.0),
-                wall_diameter: m.wall_diameter,
-            },
+        let (normal, tangential) = match m.family {
+            // Rapaport (2002) section III: its repulsion and dashpot, and viscous sliding
+            // with each pair's gamma_s
+            Family::Rapaport => (
+                NormalLaw::Rapaport {
+                    gamma_n: m.gamma_n.unwrap_or(0.0),
+                    wall_diameter: m.wall_diameter,
+                },
+                TangentialLaw::ViscousPairs,
+            ),
             Family::SpringDashpot => {
                 let e = m.restitution.unwrap_or(1.0);
                 // the model's coefficients; a law whose pairs differ reads each pair's
@@ -71,31 +81,26 @@ impl ContactLaw {
                         dt: case.dt(),
                     },
                 };
-                let rolling = RollingLaw::of(case);
-                let cohesion = CohesionLaw::of(case);
-                ContactLaw::SpringDashpot(SpringDashpot {
-                    normal,
-                    tangential,
-                    rolling,
-                    cohesion,
-                })
+                (normal, tangential)
             }
+        };
+        ContactLaw {
+            normal,
+            tangential,
+            rolling: RollingLaw::of(case),
+            cohesion: CohesionLaw::of(case),
         }
     }
 
     /// The same law with time standing still: a tangential history is turned into the
     /// tangent plane and cut back, but not advanced by the sliding of a step.
     pub fn frozen(&self) -> Self {
-        match *self {
-            ContactLaw::SpringDashpot(mut sd) => {
-                if let TangentialLaw::History { dt, .. } = &mut sd.tangential {
-                    *dt = 0.0;
-                }
-                sd.rolling = sd.rolling.frozen();
-                ContactLaw::SpringDashpot(sd)
-            }
-            other => other,
+        let mut law = *self;
+        if let TangentialLaw::History { dt, .. } = &mut law.tangential {
+            *dt = 0.0;
         }
+        law.rolling = law.rolling.frozen();
+        law
     }
 
     /// Whether contacts carry a history.
@@ -105,39 +110,29 @@ impl ContactLaw {
 
     /// Whether contacts exert a rolling-resistance torque.
     pub fn has_rolling(&self) -> bool {
-        matches!(self, ContactLaw::SpringDashpot(sd) if sd.rolling != RollingLaw::None)
+        self.rolling != RollingLaw::None
     }
 
     /// Words of history per contact (pair or wall): the tangential spring's, then the
     /// rolling spring's; at most [`super::contact::HISTORY_MAX`].
     pub fn history_words(&self) -> usize {
-        match self {
-            ContactLaw::Rapaport { .. } => 0,
-            ContactLaw::SpringDashpot(sd) => sd.history_words(),
-        }
+        self.tangential.history_words() + self.rolling.history_words()
     }
 
     /// Centre distance below which two particles interact.
     #[inline]
     pub fn cutoff(&self, d_a: f64, d_b: f64) -> f64 {
-        match self {
-            ContactLaw::Rapaport { .. } => rapaport::cutoff(0.5 * (d_a + d_b)),
-            ContactLaw::SpringDashpot(_) => 0.5 * (d_a + d_b),
-        }
+        self.normal.range(0.5 * (d_a + d_b))
     }
 
     /// Distance from a wall below which a particle of diameter `d` touches it.
     #[inline]
     pub fn wall_reach(&self, d: f64) -> f64 {
-        match self {
-            ContactLaw::Rapaport { wall_diameter, .. } => {
-                rapaport::cutoff(0.5 * (d + wall_diameter))
-            }
-            ContactLaw::SpringDashpot(_) => 0.5 * d,
-        }
+        self.normal.range(self.normal.wall_contact(d))
     }
 
-    /// Contact between `a` and `b`, `r = x_a - x_b`.
+    /// Contact between `a` and `b`, `r = x_a - x_b`; `None` (and the history cleared)
+    /// when they do not touch.
     #[inline]
     pub fn pair(
         &self,
@@ -147,16 +142,53 @@ impl ContactLaw {
         fr: Friction,
         hist: &mut [f64],
     ) -> Option<Contact> {
-        match self {
-            ContactLaw::Rapaport { gamma_n, .. } => {
-                rapaport::pair(r, a.v, b.v, a.w, b.w, a.d, b.d, *gamma_n, fr)
-            }
-            ContactLaw::SpringDashpot(sd) => sd.pair(r, a, b, fr, hist),
+        let d_ab = 0.5 * (a.d + b.d);
+        let rc = self.normal.range(d_ab);
+        let r2 = r.norm_squared();
+        if r2 >= rc * rc {
+            hist.fill(0.0);
+            return None;
         }
+        let rr = r2.sqrt();
+        let paper = self.normal.divides();
+        let n = if paper { r / rr } else { r * (1.0 / rr) };
+        let m_eff = 1.0 / (a.inv_mass + b.inv_mass);
+        let inv_d = 1.0 / (a.d + b.d);
+        let v = a.v - b.v;
+        let vn = n.dot(&v);
+        let r_eff = || 0.5 * a.d * b.d * inv_d;
+        let (f_n, k_n, dash) = self.normal.force(rr, d_ab, vn, m_eff, r_eff, &fr);
+        // sliding velocity with both spins (thesis eq. 2.16, Rapaport eq. 3)
+        let w_eff = if paper {
+            (a.w * a.d + b.w * b.d) / (a.d + b.d)
+        } else {
+            (a.w * a.d + b.w * b.d) * inv_d
+        };
+        let v_s = v - n * vn - w_eff.cross(&r);
+        let (h_t, h_r) = hist.split_at_mut(self.tangential.history_words());
+        let f_s = self.tangential.force(n, v_s, f_n, k_n, dash, fr, h_t);
+        let torque_roll = if self.rolling == RollingLaw::None {
+            V3::zeros()
+        } else {
+            let inv_ir =
+                inv_inertia_at_surface(a.inv_mass, a.d) + inv_inertia_at_surface(b.inv_mass, b.d);
+            self.rolling
+                .torque(n, a.w - b.w, f_n, k_n, r_eff(), inv_ir, fr, h_r)
+        };
+        let f_tot = match self.cohesion {
+            CohesionLaw::None => f_n,
+            c => f_n - c.attraction(fr.cohesion, 0.5 * a.d, Some(0.5 * b.d), rr),
+        };
+        Some(Contact {
+            force: n * f_tot + f_s,
+            n_cross_fs: n.cross(&f_s),
+            torque_roll,
+        })
     }
 
-    /// Contact of `p` with a wall: `r` from the wall point to the centre, `v_wall` the wall's
-    /// velocity there, `w_wall` its angular velocity.
+    /// Contact of `p` with a wall of infinite mass and radius: `r` from the wall point to
+    /// the centre (`|r|` = distance), `v_wall` the wall's velocity there, `w_wall` its
+    /// angular velocity; `None` (and the history cleared) when they do not touch.
     #[inline]
     pub fn wall(
         &self,
@@ -167,21 +199,46 @@ impl ContactLaw {
         fr: Friction,
         hist: &mut [f64],
     ) -> Option<Contact> {
-        match self {
-            ContactLaw::Rapaport {
-                gamma_n,
-                wall_diameter,
-            } => rapaport::wall(
-                r,
-                p.v,
-                p.w,
-                v_wall,
-                0.5 * (p.d + wall_diameter),
-                *gamma_n,
-                fr,
-            ),
-            ContactLaw::SpringDashpot(sd) => sd.wall(r, p, v_wall, w_wall, fr, hist),
+        let d_iw = self.normal.wall_contact(p.d);
+        let rc = self.normal.range(d_iw);
+        let r2 = r.norm_squared();
+        if r2 >= rc * rc || r2 == 0.0 {
+            hist.fill(0.0);
+            return None;
         }
+        let rr = r2.sqrt();
+        let paper = self.normal.divides();
+        let n = if paper { r / rr } else { r * (1.0 / rr) };
+        let m_eff = 1.0 / p.inv_mass;
+        let v = p.v - v_wall;
+        let vn = n.dot(&v);
+        let (f_n, k_n, dash) = self.normal.force(rr, d_iw, vn, m_eff, || d_iw, &fr);
+        // the particle's surface point at the contact moves with v - (d/2) w x n
+        // (Rapaport: v - w x r'_iw, as printed)
+        let lever = if paper {
+            p.w.cross(&r)
+        } else {
+            p.w.cross(&n) * d_iw
+        };
+        let v_s = v - n * vn - lever;
+        let (h_t, h_r) = hist.split_at_mut(self.tangential.history_words());
+        let f_s = self.tangential.force(n, v_s, f_n, k_n, dash, fr, h_t);
+        let torque_roll = if self.rolling == RollingLaw::None {
+            V3::zeros()
+        } else {
+            let inv_ir = inv_inertia_at_surface(p.inv_mass, p.d);
+            self.rolling
+                .torque(n, p.w - w_wall, f_n, k_n, d_iw, inv_ir, fr, h_r)
+        };
+        let f_tot = match self.cohesion {
+            CohesionLaw::None => f_n,
+            c => f_n - c.attraction(fr.cohesion, d_iw, None, rr),
+        };
+        Some(Contact {
+            force: n * f_tot + f_s,
+            n_cross_fs: n.cross(&f_s),
+            torque_roll,
+        })
     }
 }
 

@@ -10,7 +10,7 @@ pub mod materials;
 pub mod rapaport;
 pub mod rolling;
 pub mod rough_wall;
-pub mod spring_dashpot;
+pub mod slots;
 pub mod walls;
 
 pub use contact::{Body, Contact};

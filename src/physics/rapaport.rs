@@ -1,6 +1,11 @@
 //! The Rapaport (2002, section III) contact model in reduced units: the truncated
 //! Lennard-Jones-derived repulsion (eq. 1), normal damping (eq. 2) and sliding friction with
-//! a Coulomb cap (eqs. 3-4), for particle pairs.
+//! a Coulomb cap (eqs. 3-4), for particle pairs and walls.
+//!
+//! A run evaluates it as one composition of the contact law's slots (`NormalLaw::Rapaport`,
+//! `TangentialLaw::ViscousPairs`); [`pair`] and [`wall`] write the paper's formulas out in
+//! one piece, and `tests/contact_kernels.rs` checks the composition against them bit for
+//! bit. The repulsion and its range are shared by both.
 //!
 //! Conventions: `r = x_a - x_b` points from `b` to `a`; the returned force acts on `a` and its
 //! negative on `b`. The pair is always evaluated with `a` the particle of lower global id, so
@@ -29,7 +34,7 @@ pub fn cutoff(d_ij: f64) -> f64 {
 /// and static friction, for the spring-dashpot family's optional sub-models rolling
 /// friction and cohesion, and the pair's own normal coefficients (read by the
 /// spring-dashpot laws whose coefficients differ between pairs, see
-/// `spring_dashpot::NormalLaw::LinearPairs`).
+/// `slots::NormalLaw::LinearPairs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Friction {
     /// Sliding friction coefficient `gamma_s`.
@@ -69,7 +74,7 @@ impl Friction {
 #[inline]
 pub fn repulsion(r: f64, d_ij: f64) -> f64 {
     // computed, then discarded beyond the cutoff: no branch, so the batched pass
-    // (`batch::RapaportBatch`) can call it in its vectorised lanes
+    // (`batch::RapaportNormal`) can call it in its vectorised lanes
     let s = d_ij / r;
     let s6 = s * s * s * s * s * s;
     let f = 48.0 / r * (s6 * s6 - 0.5 * s6);
