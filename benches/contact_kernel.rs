@@ -16,8 +16,9 @@ use tumbler::engine::forces::{pair_forces_with, Isa};
 use tumbler::engine::neighbor::{Grid, NeighborList};
 use tumbler::particles::{ParticleState, Particles};
 use tumbler::physics::cohesion::CohesionLaw;
+use tumbler::physics::normal::NormalLaw;
 use tumbler::physics::rolling::RollingLaw;
-use tumbler::physics::slots::{NormalLaw, TangentialLaw};
+use tumbler::physics::tangential::TangentialLaw;
 use tumbler::physics::{ContactLaw, Materials};
 
 /// `side^3` particles of diameter about `d` on a lattice of spacing `0.97 d`, jittered.

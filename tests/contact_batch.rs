@@ -11,9 +11,10 @@ use tumbler::engine::neighbor::{Grid, NeighborList};
 use tumbler::particles::{ParticleState, Particles};
 use tumbler::physics::cohesion::CohesionLaw;
 use tumbler::physics::contact::HISTORY_MAX;
+use tumbler::physics::normal::NormalLaw;
 use tumbler::physics::rolling::RollingLaw;
 use tumbler::physics::rough_wall::FIXED_SPECIES;
-use tumbler::physics::slots::{NormalLaw, TangentialLaw};
+use tumbler::physics::tangential::TangentialLaw;
 use tumbler::physics::{ContactLaw, Materials};
 
 fn case(name: &str) -> tumbler::case::Case {

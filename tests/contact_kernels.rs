@@ -154,7 +154,8 @@ fn common_case() -> String {
 #[test]
 fn the_composed_rapaport_law_is_the_papers_formulas_bit_for_bit() {
     use rand::{Rng, SeedableRng};
-    use tumbler::physics::slots::{NormalLaw, TangentialLaw};
+    use tumbler::physics::normal::NormalLaw;
+    use tumbler::physics::tangential::TangentialLaw;
     use tumbler::physics::{Body, Contact, ContactLaw};
     let (gamma_n, wall_diameter) = (5.0, 1.3);
     let law = ContactLaw {

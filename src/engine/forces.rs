@@ -5,16 +5,13 @@
 
 use super::neighbor::NeighborList;
 use crate::particles::Particles;
-use crate::physics::batch::{
-    Batch, BatchLaw, Composed, HertzNormal, HertzPairNormal, HistoryTangential, LinearNormal,
-    LinearPairNormal, NormalPart, RapaportNormal, TangentialPart, ViscousPairTangential,
-    ViscousTangential, LANES,
-};
+use crate::physics::batch::{Batch, BatchLaw, Composed, LANES};
 use crate::physics::cohesion::{CohesionPart, WithCohesion};
 use crate::physics::integrate::min_image;
+use crate::physics::normal::{NormalPart, WithNormal};
 use crate::physics::rolling::{RollingPart, WithRolling};
 use crate::physics::rough_wall::is_fixed;
-use crate::physics::slots::{NormalLaw, TangentialLaw};
+use crate::physics::tangential::{TangentialPart, WithTangential};
 use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
 
 #[inline]
@@ -68,19 +65,13 @@ pub fn pair_forces_with(
         scale,
         law,
     };
-    match law.normal {
-        NormalLaw::Linear { k0, two_gamma } => {
-            pass.tangential(isa, LinearNormal { k0, two_gamma }, p, nl)
-        }
-        NormalLaw::Hertz { kh, gamma_h } => {
-            pass.tangential(isa, HertzNormal { kh, gamma_h }, p, nl)
-        }
-        NormalLaw::LinearPairs => pass.tangential(isa, LinearPairNormal, p, nl),
-        NormalLaw::HertzPairs => pass.tangential(isa, HertzPairNormal, p, nl),
-        NormalLaw::Rapaport { gamma_n, .. } => {
-            pass.tangential(isa, RapaportNormal { gamma_n }, p, nl)
-        }
-    }
+    law.normal.visit(Compose {
+        pass,
+        isa,
+        law: (),
+        p,
+        nl,
+    })
 }
 
 /// The instruction sets the pair pass is compiled for, in increasing width. One binary
@@ -150,49 +141,7 @@ struct Pass<'a> {
     law: &'a ContactLaw,
 }
 
-// A law's slots are chosen one at a time, each match turning the run's value into a type,
-// so that the composition is one monomorphised pass.
 impl Pass<'_> {
-    fn tangential<N: NormalPart>(
-        self,
-        isa: Isa,
-        normal: N,
-        p: &mut Particles,
-        nl: &mut NeighborList,
-    ) {
-        match self.law.tangential {
-            TangentialLaw::Viscous { gamma_s } => {
-                self.rolling(isa, normal, ViscousTangential { gamma_s }, p, nl)
-            }
-            TangentialLaw::ViscousPairs => self.rolling(isa, normal, ViscousPairTangential, p, nl),
-            TangentialLaw::History { ratio, dt } => {
-                self.rolling(isa, normal, HistoryTangential { ratio, dt }, p, nl)
-            }
-        }
-    }
-
-    fn rolling<N: NormalPart, T: TangentialPart>(
-        self,
-        isa: Isa,
-        normal: N,
-        tangential: T,
-        p: &mut Particles,
-        nl: &mut NeighborList,
-    ) {
-        self.law.rolling.visit(Compose {
-            pass: self,
-            isa,
-            law: Composed {
-                normal,
-                tangential,
-                rolling: (),
-                cohesion: (),
-            },
-            p,
-            nl,
-        })
-    }
-
     fn run<L: BatchLaw>(self, isa: Isa, law: &L, p: &mut Particles, nl: &mut NeighborList) {
         match isa {
             #[cfg(target_arch = "x86_64")]
@@ -337,14 +286,46 @@ impl Pass<'_> {
     }
 }
 
-/// A law being made a type slot by slot: the rolling and cohesion models turn themselves
-/// into types ([`WithRolling`], [`WithCohesion`]), then the pass runs.
+/// A law being made a type slot by slot: the normal, tangential, rolling and cohesion
+/// models each turn themselves into a type ([`WithNormal`], [`WithTangential`],
+/// [`WithRolling`], [`WithCohesion`]), so that the composition is one monomorphised pass.
 struct Compose<'a, 'b, L> {
     pass: Pass<'a>,
     isa: Isa,
     law: L,
     p: &'b mut Particles,
     nl: &'b mut NeighborList,
+}
+
+impl<'a, 'b> WithNormal for Compose<'a, 'b, ()> {
+    type Out = ();
+    fn with<N: NormalPart>(self, normal: N) {
+        self.pass.law.tangential.visit(Compose {
+            pass: self.pass,
+            isa: self.isa,
+            law: normal,
+            p: self.p,
+            nl: self.nl,
+        })
+    }
+}
+
+impl<'a, 'b, N: NormalPart> WithTangential for Compose<'a, 'b, N> {
+    type Out = ();
+    fn with<T: TangentialPart>(self, tangential: T) {
+        self.pass.law.rolling.visit(Compose {
+            pass: self.pass,
+            isa: self.isa,
+            law: Composed {
+                normal: self.law,
+                tangential,
+                rolling: (),
+                cohesion: (),
+            },
+            p: self.p,
+            nl: self.nl,
+        })
+    }
 }
 
 impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling

@@ -1,18 +1,18 @@
 //! The contact law of a run: one composition of the sub-model slots, chosen once from the
 //! case, in the manner of LAMMPS' `pair granular`. A normal slot (linear, Hertz, Rapaport;
 //! each with its damping), a tangential slot (viscous, Cundall-Strack), rolling resistance
-//! and cohesion ([`super::slots`], [`super::rolling`], [`super::cohesion`]). Here the slots
-//! are matched per contact (the scalar form, which serves the walls and is the pair pass's
-//! reference); the batched pair pass turns each slot into a type instead, so that its
-//! inner loop is monomorphised (`engine::forces`).
+//! and cohesion ([`super::normal`], [`super::tangential`], [`super::rolling`],
+//! [`super::cohesion`]). Here the slots are matched per contact (the scalar form, which
+//! serves the walls and is the pair pass's reference); the batched pair pass turns each
+//! slot into a type instead, so that its inner loop is monomorphised (`engine::forces`).
 
 use super::cohesion::CohesionLaw;
 use super::contact::{Body, Contact};
-use super::materials::{effective_modulus, hertz_kh, linear_coefficients, Materials};
-use super::rapaport::{self, Friction, V3};
+use super::normal::NormalLaw;
+use super::rapaport::{Friction, V3};
 use super::rolling::{inv_inertia_at_surface, RollingLaw};
-use super::slots::{NormalLaw, TangentialLaw};
-use crate::case::{Case, Family, Normal, Rolling, Tangential};
+use super::tangential::TangentialLaw;
+use crate::case::{Case, Family, Rolling, Tangential};
 use std::f64::consts::PI;
 
 /// Fewest steps per binary contact accepted by the time-step check.
@@ -35,58 +35,9 @@ pub struct ContactLaw {
 impl ContactLaw {
     /// The law of `case`.
     pub fn new(case: &Case) -> Self {
-        let m = &case.model;
-        let (normal, tangential) = match m.family {
-            // Rapaport (2002) section III: its repulsion and dashpot, and viscous sliding
-            // with each pair's gamma_s
-            Family::Rapaport => (
-                NormalLaw::Rapaport {
-                    gamma_n: m.gamma_n.unwrap_or(0.0),
-                    wall_diameter: m.wall_diameter,
-                },
-                TangentialLaw::ViscousPairs,
-            ),
-            Family::SpringDashpot => {
-                let e = m.restitution.unwrap_or(1.0);
-                // the model's coefficients; a law whose pairs differ reads each pair's
-                let mat = Materials::new(case);
-                let normal = match m.normal {
-                    Normal::Linear => {
-                        let (k0, two_gamma) =
-                            linear_coefficients(e, m.collision_time.unwrap_or(1.0));
-                        if mat.normal_uniform(k0, two_gamma) {
-                            NormalLaw::Linear { k0, two_gamma }
-                        } else {
-                            NormalLaw::LinearPairs
-                        }
-                    }
-                    Normal::Hertz => {
-                        let (y, nu) = (
-                            m.youngs_modulus.unwrap_or(0.0),
-                            m.poisson_ratio.unwrap_or(0.0),
-                        );
-                        let kh = hertz_kh(y, nu, y, nu);
-                        let gamma_h = m.hertz_damping.unwrap_or(0.0);
-                        if mat.normal_uniform(kh, gamma_h) {
-                            NormalLaw::Hertz { kh, gamma_h }
-                        } else {
-                            NormalLaw::HertzPairs
-                        }
-                    }
-                };
-                let tangential = match m.tangential {
-                    Tangential::Viscous => TangentialLaw::Viscous { gamma_s: m.gamma_s },
-                    Tangential::History => TangentialLaw::History {
-                        ratio: m.stiffness_ratio,
-                        dt: case.dt(),
-                    },
-                };
-                (normal, tangential)
-            }
-        };
         ContactLaw {
-            normal,
-            tangential,
+            normal: NormalLaw::of(case),
+            tangential: TangentialLaw::of(case),
             rolling: RollingLaw::of(case),
             cohesion: CohesionLaw::of(case),
         }
@@ -280,8 +231,7 @@ pub struct StepLimits {
 pub fn step_limits(case: &Case) -> StepLimits {
     let m = &case.model;
     let mass = |d: f64| m.density * PI / 6.0 * d * d * d;
-    // (d_ij, m_eff, wall, species a, species b) of the contacts of the smallest particles,
-    // walls included
+    // the contacts of the smallest particles, walls included
     let mut contacts = Vec::new();
     for (i, a) in case.species.iter().enumerate() {
         let da = smallest_diameter(a);
@@ -292,70 +242,7 @@ pub fn step_limits(case: &Case) -> StepLimits {
             contacts.push((0.5 * (da + db), ma * mb / (ma + mb), false, i, j));
         }
     }
-    let mut t_min = f64::INFINITY;
-    let mut rate: f64 = 0.0;
-    match m.family {
-        Family::Rapaport => {
-            let gamma_s_max = case
-                .species
-                .iter()
-                .flat_map(|s| [s.gamma_s.unwrap_or(0.0), s.gamma_s_wall.unwrap_or(0.0)])
-                .fold(0.0, f64::max);
-            for &(d, m_eff, wall, ..) in &contacts {
-                let d_ij = if wall { 0.5 * (d + m.wall_diameter) } else { d };
-                let k = rapaport::contact_stiffness(d_ij);
-                t_min = t_min.min(PI * (m_eff / k).sqrt());
-                rate = rate.max(m.gamma_n.unwrap_or(0.0).max(gamma_s_max * 3.5) / m_eff);
-            }
-        }
-        Family::SpringDashpot => {
-            // the most damped pair or wall: the smallest restitution (a mixed pair's
-            // geometric mean is not below the smaller of its species')
-            let e = case
-                .species
-                .iter()
-                .flat_map(|s| [s.restitution, s.restitution_wall])
-                .chain(case.pairs.iter().map(|p| p.restitution))
-                .flatten()
-                .fold(m.restitution.unwrap_or(1.0), f64::min);
-            match m.normal {
-                Normal::Linear => {
-                    let tc = m.collision_time.unwrap_or(f64::NAN);
-                    t_min = tc;
-                    let gamma = -e.ln() / tc;
-                    rate = 2.0 * gamma * 3.5;
-                    if let Some(gs) = m.gamma_s {
-                        for &(_, m_eff, ..) in &contacts {
-                            rate = rate.max(gs * 3.5 / m_eff);
-                        }
-                    }
-                }
-                Normal::Hertz => {
-                    // contact time of a Hertz collision at a characteristic impact speed
-                    let r = 0.5 * case.drum.diameter;
-                    let v = 2.0
-                        * (case.drum.omega.abs() * r).max((m.gravity * case.drum.diameter).sqrt());
-                    // each species' material (a wall is of the species' material)
-                    let y = |s: usize| {
-                        let sp = &case.species[s];
-                        (
-                            sp.youngs_modulus.or(m.youngs_modulus).unwrap_or(f64::NAN),
-                            sp.poisson_ratio.or(m.poisson_ratio).unwrap_or(0.0),
-                        )
-                    };
-                    for &(d, m_eff, wall, i, j) in &contacts {
-                        let ((y_a, nu_a), (y_b, nu_b)) = (y(i), y(j));
-                        let e_star = effective_modulus(y_a, nu_a, y_b, nu_b);
-                        let r_eff = if wall { 0.5 * d } else { 0.25 * d };
-                        let t = 2.87 * (m_eff * m_eff / (r_eff * e_star * e_star * v)).powf(0.2);
-                        t_min = t_min.min(t);
-                        rate = rate
-                            .max(m.hertz_damping.unwrap_or(0.0) * (0.05 * d).sqrt() * 3.5 / m_eff);
-                    }
-                }
-            }
-        }
-    }
+    let (mut t_min, rate) = super::normal::contact_limits(case, &contacts);
     // The Cundall-Strack spring oscillates sqrt(3.5 k_s/k_n) times faster than the normal one
     // (the rotational inertia of a sphere adds 5/2 to the tangential effective mass's inverse).
     if m.family == Family::SpringDashpot && m.tangential == Tangential::History {

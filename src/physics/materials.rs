@@ -250,7 +250,7 @@ pub fn effective_modulus(y_a: f64, nu_a: f64, y_b: f64, nu_b: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::slots::NormalLaw;
+    use crate::physics::normal::NormalLaw;
     use crate::physics::ContactLaw;
 
     const SD_CAPPED: &str = include_str!("../../tests/cases/sd_capped.toml");

@@ -7,10 +7,11 @@ pub mod contact;
 pub mod integrate;
 pub mod law;
 pub mod materials;
+pub mod normal;
 pub mod rapaport;
 pub mod rolling;
 pub mod rough_wall;
-pub mod slots;
+pub mod tangential;
 pub mod walls;
 
 pub use contact::{Body, Contact};

@@ -34,7 +34,7 @@ pub fn cutoff(d_ij: f64) -> f64 {
 /// and static friction, for the spring-dashpot family's optional sub-models rolling
 /// friction and cohesion, and the pair's own normal coefficients (read by the
 /// spring-dashpot laws whose coefficients differ between pairs, see
-/// `slots::NormalLaw::LinearPairs`).
+/// `normal::NormalLaw::LinearPairs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Friction {
     /// Sliding friction coefficient `gamma_s`.
