@@ -169,7 +169,10 @@ impl Pass<'_> {
     /// The pass itself, inlined into each instruction set's copy.
     #[inline(always)]
     fn run_any<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
-        let m = self.touching::<L>(p, nl);
+        let m = self.touching(p, nl);
+        if L::WORDS > 0 {
+            Self::clear_parted::<L>(nl, m);
+        }
         let touch = std::mem::take(&mut nl.touch);
         let mut b = Batch::default();
         for chunk in touch[..m].chunks(LANES) {
@@ -177,13 +180,21 @@ impl Pass<'_> {
             law.eval(&mut b);
             Self::scatter::<L>(&b, chunk, p, nl);
         }
+        if L::WORDS > 0 {
+            // this pass's touching pairs become the next pass's `touched_before`
+            let mut before = std::mem::take(&mut nl.touched_spare);
+            before.clear();
+            before.extend_from_slice(&touch[..m]);
+            nl.forget_touching();
+            nl.touched_before = Some(before);
+        }
         nl.touch = touch;
     }
 
     /// Put the list indices of the pairs that touch in `nl.touch`, in list order, and return
-    /// how many; a pair that does not touch loses its history.
+    /// how many. One pass over the list without a branch: the distance test only.
     #[inline(always)]
-    fn touching<L: BatchLaw>(self, p: &Particles, nl: &mut NeighborList) -> usize {
+    fn touching(self, p: &Particles, nl: &mut NeighborList) -> usize {
         let n = nl.pairs.len();
         let touch = &mut nl.touch;
         if touch.len() < n + 1 {
@@ -206,16 +217,46 @@ impl Pass<'_> {
             // written always, kept only when it touches: no branch to mispredict
             touch[m] = k as u32;
             m += touches as usize;
-            // a pair that has just come apart loses its history: rare, so the branch is
-            // predicted well, and the histories of pairs apart are read but not written
-            if L::WORDS > 0 && !touches {
-                let h = &mut nl.hist[k * L::WORDS..(k + 1) * L::WORDS];
-                if h.iter().any(|&x| x != 0.0) {
-                    h.fill(0.0);
+        }
+        m
+    }
+
+    /// Clear the histories of the pairs that do not touch now (`nl.touch[..m]` are those
+    /// that do). Only a pair that touched at the last pass can hold a history
+    /// (`nl.touched_before`), so when that is known this is a merge of two short sorted
+    /// lists; after a build it is a scan of the whole list. A history is written only when
+    /// it is not zero already, as the scalar law's pass does (a `-0.0` stays as it is).
+    fn clear_parted<L: BatchLaw>(nl: &mut NeighborList, m: usize) {
+        let words = L::WORDS;
+        let touch = &nl.touch[..m];
+        let hist = &mut nl.hist;
+        let mut clear = |k: usize| {
+            let h = &mut hist[k * words..(k + 1) * words];
+            if h.iter().any(|&x| x != 0.0) {
+                h.fill(0.0);
+            }
+        };
+        let mut t = touch.iter().peekable();
+        let mut not_touching = |k: u32| {
+            while t.next_if(|&&x| x < k).is_some() {}
+            t.peek() != Some(&&k)
+        };
+        match &nl.touched_before {
+            Some(before) => {
+                for &k in before {
+                    if not_touching(k) {
+                        clear(k as usize);
+                    }
+                }
+            }
+            None => {
+                for k in 0..nl.pairs.len() as u32 {
+                    if not_touching(k) {
+                        clear(k as usize);
+                    }
                 }
             }
         }
-        m
     }
 
     /// `x_a - x_b`, the axial part the minimum image with periodic ends.
@@ -377,6 +418,8 @@ pub fn pair_forces_reference(
     period: Option<f64>,
     scale: f64,
 ) {
+    // the batched pass's record of touching pairs does not follow this pass
+    nl.forget_touching();
     let full_size = scale == 1.0;
     let words = law.history_words();
     let rolling = law.has_rolling();

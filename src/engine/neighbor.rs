@@ -65,6 +65,13 @@ pub struct NeighborList {
     pub near_walls: Vec<u32>,
     /// Scratch of the pair pass (`engine::forces`): the list indices of the touching pairs.
     pub(crate) touch: Vec<u32>,
+    /// The list indices of the pairs that touched at the last batched pair pass over this
+    /// list, in list order, when known (`None` after a build, or after the reference pass):
+    /// the only pairs whose history can be nonzero and not touch now, so the pass clears
+    /// histories by a merge with it instead of reading every listed pair's history.
+    pub(crate) touched_before: Option<Vec<u32>>,
+    /// A spare buffer for `touched_before`, kept to reuse its allocation.
+    pub(crate) touched_spare: Vec<u32>,
     /// Scratch: particles sorted by cell, and each cell's start in it.
     cell_items: Vec<u32>,
     cell_start: Vec<u32>,
@@ -263,6 +270,14 @@ impl NeighborList {
         self.words = law.history_words();
         self.hist.clear();
         self.hist.resize(self.pairs.len() * self.words, 0.0);
+        self.forget_touching();
+    }
+
+    /// Forget which pairs touched at the last pass (the list or its histories changed).
+    pub(crate) fn forget_touching(&mut self) {
+        if let Some(v) = self.touched_before.take() {
+            self.touched_spare = v;
+        }
     }
 
     /// List the owned mobile particles that may touch a wall before the next build (closer to
@@ -318,6 +333,7 @@ impl NeighborList {
     /// Give each pair of a freshly built list its saved history (`saved` sorted by ids, each
     /// contact once); saved contacts without a pair here are dropped.
     pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {
+        self.forget_touching();
         if saved.is_empty() || self.words == 0 {
             return;
         }
