@@ -668,7 +668,7 @@ fn save_checkpoint(
         });
     }
     let (particles, histories) = sim.particles_and_histories(sim.law.has_history());
-    let ck = Checkpoint {
+    let mut ck = Checkpoint {
         case_text: case_text.to_string(),
         step: sim.step,
         samples,
@@ -678,7 +678,7 @@ fn save_checkpoint(
         history_words: sim.law.history_words(),
         diag,
     };
-    let written = checkpoint::write(comm, path, &ck);
+    let written = checkpoint::write(comm, path, &mut ck);
     diags.restore(ck.diag);
     written
 }
