@@ -5,7 +5,9 @@
 # diagnostics), each for 100 steps with samples, the outputs and the final checkpoint,
 # with GNU time around every rank. Prints per rank count: the peak RSS of every rank, the
 # net bytes per particle ((sum of peak RSS - the tiny run's sum) / (particles - the tiny
-# run's)), `tumbler check`'s estimate for the same run and the ratio estimate / measured.
+# run's)), `tumbler check`'s estimate of the same ((its memory over the ranks for the run -
+# for the tiny run) / (particles - the tiny run's): particles, lists, ghosts, a checkpoint's
+# gather and the window sums) and the ratio estimate / measured.
 #   benches/memory.sh [PARTICLES] [RANK_COUNTS] [-- extra --set arguments]
 # Defaults: 100000 particles, "1 2". TUMBLER=path/to/tumbler measures another binary.
 set -euo pipefail
@@ -53,10 +55,14 @@ echo "|---|---|---|---|---|---|---|"
 for np in $counts; do
   run tiny "$tiny" "$np"
   run big "$big" "$np"
-  est=$("$bin" check "$case_file" --set drum.length="$big" "${args[@]}" "${extra[@]}" --ranks "$np" 2>/dev/null |
-    sed -n 's/.*(\([0-9]*\) B per particle).*/\1/p')
+  estimate() { # LENGTH: check's MiB over the ranks
+    "$bin" check "$case_file" --set drum.length="$1" "${args[@]}" "${extra[@]}" --ranks "$np" 2>/dev/null |
+      sed -n 's/.* \([0-9.]*\) MiB over the ranks.*/\1/p'
+  }
   awk -v np="$np" -v n="${count[big]}" -v s="${rss_sum[big.$np]}" -v all="${rss_all[big.$np]}" \
-    -v ns="${count[tiny]}" -v s0="${rss_sum[tiny.$np]}" -v all0="${rss_all[tiny.$np]}" -v est="${est:-0}" 'BEGIN {
+    -v ns="${count[tiny]}" -v s0="${rss_sum[tiny.$np]}" -v all0="${rss_all[tiny.$np]}" \
+    -v e="$(estimate "$big")" -v e0="$(estimate "$tiny")" 'BEGIN {
       net = (s - s0) * 1024 / (n - ns)
-      printf "| %d | %d | %s | %d: %s | %.0f | %s | %.2f |\n", np, n, all, ns, all0, net, est, est / net }'
+      est = (e - e0) * 1048576 / (n - ns)
+      printf "| %d | %d | %s | %d: %s | %.0f | %.0f | %.2f |\n", np, n, all, ns, all0, net, est, est / net }'
 done
