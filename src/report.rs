@@ -39,7 +39,8 @@ impl MemoryEstimate {
 pub fn memory_estimate(case: &Case) -> MemoryEstimate {
     use crate::physics::materials::WALLS;
     let words = law::ContactLaw::new(case).history_words() as f64;
-    let arrays = (8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
+    let arrays =
+        (8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
     // number density of the initial state: the lattice's, or a bed packed at 0.6
     let ns = case.species.len().max(1) as f64;
     let d = case.species.iter().map(|s| s.diameter).sum::<f64>() / ns;
@@ -50,7 +51,11 @@ pub fn memory_estimate(case: &Case) -> MemoryEstimate {
     };
     let range = law::ContactLaw::new(case).cutoff(d, d) + case.skin();
     let pairs = 0.5 * density * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
-    let pairs = if pairs.is_finite() { pairs.max(1.0) } else { 1.0 };
+    let pairs = if pairs.is_finite() {
+        pairs.max(1.0)
+    } else {
+        1.0
+    };
     let list = pairs * (8.0 + 8.0 + 4.0 + 8.0 * words) * 1.5 + 24.0 + 4.0;
     let record = 8.0 * crate::particles::packed_words(words as usize) as f64;
     let state = std::mem::size_of::<crate::particles::ParticleState>() as f64;

@@ -132,7 +132,13 @@ impl Comm for MpiComm {
         let mut from: Vec<Vec<f64>> = incoming
             .iter()
             .enumerate()
-            .map(|(r, &c)| if r == me { Vec::new() } else { vec![0.0; c as usize] })
+            .map(|(r, &c)| {
+                if r == me {
+                    Vec::new()
+                } else {
+                    vec![0.0; c as usize]
+                }
+            })
             .collect();
         from[me] = std::mem::take(&mut to[me]);
         mpi::request::scope(|scope| {
