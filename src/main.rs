@@ -399,6 +399,7 @@ fn validate(tier: TierArg, only: Vec<String>, out: PathBuf, reuse: bool, list: b
 }
 
 fn main() -> ExitCode {
+    tumbler::run::return_freed_memory();
     tumbler::output::pario::start_library();
     let cli = Cli::parse();
     // stderr, and the run's NAME.log while a run is going on (src/run/run_log.rs)

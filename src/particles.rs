@@ -187,6 +187,32 @@ impl Particles {
         self.truncate(self.n_owned);
     }
 
+    /// Give back the arrays' spare capacity (after a migration, a halo build, a pour's cut:
+    /// pushing one by one leaves up to as much again unused). With hysteresis: an array is
+    /// shrunk only when more than a quarter of its capacity (and 64 entries) is spare, and
+    /// keeps a sixteenth of room to grow, so that the halo's small changes from one build
+    /// to the next do not reallocate every time.
+    pub fn trim(&mut self) {
+        fn trim<T>(v: &mut Vec<T>) {
+            let (len, cap) = (v.len(), v.capacity());
+            if cap > len + len / 4 + 64 {
+                v.shrink_to(len + len / 16);
+            }
+        }
+        trim(&mut self.id);
+        trim(&mut self.species);
+        trim(&mut self.diameter);
+        trim(&mut self.inv_mass);
+        trim(&mut self.inv_inertia);
+        trim(&mut self.x);
+        trim(&mut self.v);
+        trim(&mut self.w);
+        trim(&mut self.f);
+        trim(&mut self.t);
+        trim(&mut self.wall_hist);
+        trim(&mut self.z_image);
+    }
+
     fn truncate(&mut self, n: usize) {
         self.id.truncate(n);
         self.species.truncate(n);

@@ -5,9 +5,76 @@ use crate::init::{count_by_species, pour};
 use crate::physics::law;
 use std::fmt::Write;
 
-/// Bytes of per-particle storage (owned arrays, neighbour list with histories, build
-/// positions, cells), used for the memory estimate.
-pub const BYTES_PER_PARTICLE: usize = 8 + 1 + 8 * 3 + 24 * 5 + 72 + 8 + 24 + 4 * 3 + 8 * (8 + 24);
+/// One rank's memory per particle of its share, by part, as `tumbler check` estimates it
+/// (beside the process's fixed cost: libraries, MPI, HDF5; and the window sums, which go
+/// with the drum's length and the diagnostics' bins, not with the particles). Measured by
+/// `benches/memory.sh` (docs/scaling.md, "Memory per particle").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MemoryEstimate {
+    /// Bytes of one particle's arrays (`Particles`: id, species, diameter, inverse mass and
+    /// inertia, position, velocity, spin, force, torque, axial image offset and its wall
+    /// histories), with the sixteenth of room `Particles::trim` leaves; a ghost's too.
+    pub arrays: f64,
+    /// Pairs listed per particle (half the neighbours within the list's range, at the
+    /// initial state's number density).
+    pub pairs: f64,
+    /// Bytes of the neighbour list per particle: its pairs (indices, contact distance, the
+    /// pass's touching index, the history words), their capacity grown by doubling (half
+    /// again on average), and the build positions and near-wall indices.
+    pub list: f64,
+    /// Bytes per particle of the largest transient: a checkpoint's particles in id order
+    /// (each particle's packed record and its `ParticleState`) and, with contact histories,
+    /// its contacts (saved, packed, received, sorted).
+    pub gather: f64,
+}
+
+impl MemoryEstimate {
+    /// Bytes per owned particle, all told (ghosts and window sums aside).
+    pub fn per_particle(&self) -> f64 {
+        self.arrays + self.list + self.gather
+    }
+}
+
+/// The estimate of [`MemoryEstimate`] for `case`.
+pub fn memory_estimate(case: &Case) -> MemoryEstimate {
+    use crate::physics::materials::WALLS;
+    let words = law::ContactLaw::new(case).history_words() as f64;
+    let arrays =
+        (8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
+    // number density of the initial state: the lattice's, or a bed packed at 0.6
+    let ns = case.species.len().max(1) as f64;
+    let d = case.species.iter().map(|s| s.diameter).sum::<f64>() / ns;
+    let d = if d.is_finite() && d > 0.0 { d } else { 1.0 };
+    let density = match (case.init.kind, case.init.density) {
+        (InitKind::Lattice, Some(rho)) => rho,
+        _ => 0.6 / (std::f64::consts::PI / 6.0 * d * d * d),
+    };
+    let range = law::ContactLaw::new(case).cutoff(d, d) + case.skin();
+    let pairs = 0.5 * density * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
+    let pairs = if pairs.is_finite() {
+        pairs.max(1.0)
+    } else {
+        1.0
+    };
+    let list = pairs * (8.0 + 8.0 + 4.0 + 8.0 * words) * 1.5 + 24.0 + 4.0;
+    let record = 8.0 * crate::particles::packed_words(words as usize) as f64;
+    let state = std::mem::size_of::<crate::particles::ParticleState>() as f64;
+    let mut gather = record + state;
+    if words > 0.0 {
+        // a dense bed's contacts, each once: about 3 per particle; the states are held
+        // while the contacts are saved and packed, then received and sorted
+        let contacts = pairs.min(3.0);
+        let one = std::mem::size_of::<(u64, u64, crate::physics::contact::History)>() as f64
+            + 8.0 * crate::engine::neighbor::record_words(words as usize) as f64;
+        gather = gather.max(state + 2.0 * contacts * one);
+    }
+    MemoryEstimate {
+        arrays,
+        pairs,
+        list,
+        gather,
+    }
+}
 
 /// `h m s` form of a duration in seconds.
 pub fn duration(secs: f64) -> String {
@@ -56,7 +123,16 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     } else {
         0.0
     };
-    let mem = (n as f64 / ranks as f64 + ghosts_per_rank) * BYTES_PER_PARTICLE as f64;
+    let est = memory_estimate(case);
+    let share = n as f64 / ranks as f64;
+    let particles_mem = share * est.per_particle() + ghosts_per_rank * est.arrays;
+    // the window sums (the diagnostics line below): rank 0 holds the whole drum's, another
+    // rank its slab's; their pages are committed only where the bed reached, about half
+    let sums_whole = window_sums_bytes(case) as f64;
+    let sums_rank0 = 0.5 * sums_whole;
+    let sums_other = sums_rank0 / ranks as f64;
+    let mem_rank0 = particles_mem + sums_rank0;
+    let mem_all = mem_rank0 + (ranks - 1) as f64 * (particles_mem + sums_other);
 
     let _ = writeln!(out, "case           {}", case.title);
     let _ = writeln!(out, "drum           {}", drum_line(case, &walls));
@@ -132,20 +208,32 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         out,
         "ranks          {ranks}: slabs {slab:.4} long (at least {reach:.4} needed)"
     );
+    let mib = |b: f64| b / (1 << 20) as f64;
     let _ = writeln!(
         out,
-        "memory         about {:.1} MiB per rank ({} B per particle)",
-        mem / (1 << 20) as f64,
-        BYTES_PER_PARTICLE
+        "memory         about {:.1} MiB on rank 0{}, {:.1} MiB over the ranks ({:.0} B per particle), beside each process's fixed cost (libraries, MPI, HDF5)",
+        mib(mem_rank0),
+        if ranks > 1 {
+            format!(", {:.1} MiB on each other rank", mib(particles_mem + sums_other))
+        } else {
+            String::new()
+        },
+        mib(mem_all),
+        est.per_particle()
+    );
+    let _ = writeln!(
+        out,
+        "               per particle: {:.0} B of arrays, {:.0} B of neighbour list ({:.1} pairs), {:.0} B gathered in id order for a checkpoint; {:.1} MiB of window sums on rank 0 (half the whole drum's below: the bins a bed reaches)",
+        est.arrays,
+        est.list,
+        est.pairs,
+        est.gather,
+        mib(sums_rank0)
     );
     let g = &case.diagnostics;
-    let nz = (case.drum.axial_length() / case.slice_width())
-        .round()
-        .max(1.0) as usize;
+    let nz = slices(case);
     let [nx, ny, nzf] = case.field_grid();
-    let ns = case.species.len();
-    // 128-bit sums: 10 per species and field bin, 2 per species and slice bin
-    let sums = 16 * ns * nx * ny * (10 * nzf + 2 * nz);
+    let sums = window_sums_bytes(case);
     let _ = writeln!(
         out,
         "diagnostics    {:.1} MiB of window sums per rank; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
@@ -161,6 +249,20 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         g.sample_every
     );
     Ok(out)
+}
+
+/// Axial slices of the per-slice diagnostics.
+fn slices(case: &Case) -> usize {
+    (case.drum.axial_length() / case.slice_width())
+        .round()
+        .max(1.0) as usize
+}
+
+/// Bytes of the whole drum's window sums (128-bit: 10 per species and field bin, 2 per
+/// species and slice bin).
+fn window_sums_bytes(case: &Case) -> usize {
+    let [nx, ny, nzf] = case.field_grid();
+    16 * case.species.len() * nx * ny * (10 * nzf + 2 * slices(case))
 }
 
 /// The drum's shape, size and volume, and its lifters, for `tumbler check`.

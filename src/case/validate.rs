@@ -16,8 +16,9 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 /// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
 pub const STEPS_MAX: f64 = 1e12;
 
-/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 3.3e7
-/// particles at `report::BYTES_PER_PARTICLE` each (the largest case of cases/ has 9e4).
+/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 2e7
+/// particles at `report::memory_estimate`'s bytes per particle (about 800 without contact
+/// histories; the largest case of cases/ has 9e4).
 /// Each rank makes only its own slab's part. Checked by [`initial_memory`] on the estimate
 /// of [`estimated_particles`] before anything is allocated.
 pub const INITIAL_MEMORY_MAX: f64 = 16.0 * (1u64 << 30) as f64;
@@ -1105,7 +1106,7 @@ fn most_ranks(case: &Case) -> usize {
 pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
     let n = estimated_particles(case);
     let ranks = ranks.max(1) as f64;
-    let per_particle = crate::report::BYTES_PER_PARTICLE as f64;
+    let per_particle = crate::report::memory_estimate(case).per_particle();
     let bytes = n * per_particle / ranks;
     if at_most(bytes, INITIAL_MEMORY_MAX) {
         return Ok(());

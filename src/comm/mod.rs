@@ -48,8 +48,11 @@ pub trait Comm {
     /// and return what every rank sent to this one, in rank order (`to.len()` must be the
     /// number of ranks). Counts travel as 64-bit numbers and long messages in pieces, so a
     /// message may hold any number of words. Used where particles go to whichever rank owns
-    /// them (after a rebalance); the per-step path is [`Comm::exchange`].
-    fn all_to_all(&self, to: &[Vec<f64>]) -> Vec<Vec<f64>>;
+    /// them (after a rebalance); the per-step path is [`Comm::exchange`]. The messages are
+    /// taken by value: this rank's own is handed back without a copy, and the others are
+    /// freed as soon as they are sent, so that a big exchange (the files' id order) does not
+    /// hold its send buffers beside what it receives.
+    fn all_to_all(&self, to: Vec<Vec<f64>>) -> Vec<Vec<f64>>;
 
     /// Maximum of `x` over all ranks.
     fn max_f64(&self, x: f64) -> f64;
@@ -80,7 +83,7 @@ pub trait Comm {
             _ => Vec::new(),
         };
         let to: Vec<Vec<f64>> = (0..self.size()).map(|_| text.clone()).collect();
-        let bytes: Vec<u8> = self.all_to_all(&to)[first]
+        let bytes: Vec<u8> = self.all_to_all(to)[first]
             .iter()
             .map(|&b| b as u8)
             .collect();

@@ -121,15 +121,26 @@ impl Comm for MpiComm {
         })
     }
 
-    fn all_to_all(&self, to: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    fn all_to_all(&self, mut to: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
         let n = self.size();
         assert_eq!(to.len(), n, "one message per rank");
         let counts: Vec<u64> = to.iter().map(|m| m.len() as u64).collect();
         let mut incoming = vec![0u64; n];
         self.world.all_to_all_into(&counts[..], &mut incoming[..]);
         let me = self.rank();
-        let mut from: Vec<Vec<f64>> = incoming.iter().map(|&c| vec![0.0; c as usize]).collect();
-        from[me].copy_from_slice(&to[me]);
+        // this rank's own message is handed back as it is; the others get exact buffers
+        let mut from: Vec<Vec<f64>> = incoming
+            .iter()
+            .enumerate()
+            .map(|(r, &c)| {
+                if r == me {
+                    Vec::new()
+                } else {
+                    vec![0.0; c as usize]
+                }
+            })
+            .collect();
+        from[me] = std::mem::take(&mut to[me]);
         mpi::request::scope(|scope| {
             let at = |r: usize| self.world.process_at_rank(r as i32);
             // pieces between one pair of ranks arrive in the order they were sent
@@ -156,6 +167,7 @@ impl Comm for MpiComm {
                 s.wait();
             }
         });
+        drop(to);
         from
     }
 

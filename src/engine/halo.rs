@@ -134,12 +134,12 @@ pub fn migrate(
     }
     p.remove_owned(&leave);
     let received: Vec<Vec<f64>> = if irregular {
-        comm.all_to_all(&out)
+        comm.all_to_all(out)
     } else {
         let (from_down, from_up) = comm.exchange(down, &out[0], up, &out[1]);
+        drop(out);
         vec![from_down, from_up]
     };
-    drop(out);
     let mut received_history = false;
     for msg in &received {
         if msg.is_empty() {

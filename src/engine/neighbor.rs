@@ -265,6 +265,7 @@ impl NeighborList {
                 self.cut2.push(c * c);
             }
         }
+        self.release_build_scratch();
         self.x_build.clear();
         self.x_build.extend_from_slice(&p.x[..p.n_owned]);
         self.words = law.history_words();
@@ -278,6 +279,25 @@ impl NeighborList {
         if let Some(v) = self.touched_before.take() {
             self.touched_spare = v;
         }
+    }
+
+    /// Free the build's scratch (cells, slots, the order by id, about 60 bytes per particle
+    /// and 4 per cell): kept between builds, it would add to the peak of what comes between
+    /// them (a checkpoint's or a snapshot's particles in id order). The next build allocates
+    /// it again (its big blocks are mapped and unmapped, see `run::return_freed_memory`).
+    fn release_build_scratch(&mut self) {
+        for v in [
+            &mut self.cell_items,
+            &mut self.cell_start,
+            &mut self.cell_of,
+            &mut self.by_id,
+        ] {
+            *v = Vec::new();
+        }
+        self.partners = Vec::new();
+        self.slot_x = Vec::new();
+        self.slot_id = Vec::new();
+        self.slot_flags = Vec::new();
     }
 
     /// List the owned mobile particles that may touch a wall before the next build (closer to

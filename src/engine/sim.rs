@@ -183,15 +183,24 @@ impl<'c> Sim<'c> {
             starts.get(k.saturating_sub(1)).map_or(0, |x| x.1)
         };
         let words = self.p.hist_words;
-        let mut to = vec![Vec::new(); size];
-        for rec in &histories {
+        let ranks_of = |rec: &(u64, u64, _)| {
             let (ra, rb) = (holder(rec.0), holder(rec.1));
-            for r in [Some(ra), (rb != ra).then_some(rb)].into_iter().flatten() {
+            [Some(ra), (rb != ra).then_some(rb)].into_iter().flatten()
+        };
+        let mut counts = vec![0usize; size];
+        for rec in &histories {
+            for r in ranks_of(rec) {
+                counts[r] += record_words(words);
+            }
+        }
+        let mut to: Vec<Vec<f64>> = counts.iter().map(|&c| Vec::with_capacity(c)).collect();
+        for rec in &histories {
+            for r in ranks_of(rec) {
                 push_record(&mut to[r], rec, words);
             }
         }
-        let got = self.comm.all_to_all(&to);
-        drop(to);
+        drop(histories);
+        let got = self.comm.all_to_all(to);
         let mut saved: SavedHistory = got
             .iter()
             .flat_map(|m| m.chunks_exact(record_words(words)))
@@ -416,7 +425,9 @@ impl<'c> Sim<'c> {
         let (moved, halo) = self.timers.time(Phase::Comm, || {
             p.clear_ghosts();
             let moved = halo::migrate(p, slabs, comm, mat, &mut saved);
-            (moved, halo::borders(p, slabs, comm, mat, reach))
+            let halo = halo::borders(p, slabs, comm, mat, reach);
+            p.trim();
+            (moved, halo)
         });
         self.migrated += moved.particles as u64;
         self.histories_migrated += moved.histories as u64;
@@ -725,23 +736,35 @@ impl<'c> Sim<'c> {
     }
 
     /// Send every record (`words` values each, its key from `key`) to the rank of its id's
-    /// share (`id_shares`); what this rank receives, flattened.
+    /// share (`id_shares`); what this rank receives, one message per rank. The records are
+    /// consumed, and each message is packed at its exact size (counted first), so that the
+    /// exchange holds no spare capacity.
     fn to_shares(
         &self,
-        records: &[f64],
+        records: Vec<f64>,
         words: usize,
         key: impl Fn(&[f64]) -> u64,
         shares: &(u64, Vec<usize>),
-    ) -> Vec<f64> {
+    ) -> Vec<Vec<f64>> {
         let (width, owner) = shares;
-        let mut to = vec![Vec::new(); self.comm.size()];
+        let rank_of = |r: &[f64]| owner[((key(r) / width) as usize).min(owner.len() - 1)];
+        let mut counts = vec![0usize; self.comm.size()];
         for r in records.chunks_exact(words) {
-            let bin = ((key(r) / width) as usize).min(owner.len() - 1);
-            to[owner[bin]].extend_from_slice(r);
+            counts[rank_of(r)] += words;
         }
-        let got = self.comm.all_to_all(&to);
-        drop(to);
-        got.concat()
+        let size = counts.len();
+        if let Some(r) = counts.iter().position(|&c| c == records.len()) {
+            // all for one rank (always so on one rank): sent as they are
+            let mut to = vec![Vec::new(); size];
+            to[r] = records;
+            return self.comm.all_to_all(to);
+        }
+        let mut to: Vec<Vec<f64>> = counts.iter().map(|&c| Vec::with_capacity(c)).collect();
+        for r in records.chunks_exact(words) {
+            to[rank_of(r)].extend_from_slice(r);
+        }
+        drop(records);
+        self.comm.all_to_all(to)
     }
 
     /// This rank's share of every mobile particle's state, sorted by id, the ranks' shares
@@ -761,33 +784,37 @@ impl<'c> Sim<'c> {
         let shares = self.id_shares();
         let words = self.p.packed_words();
         let hist_words = self.p.hist_words;
-        let mut buf = Vec::with_capacity(self.p.n_owned * words);
-        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
+        let mobile = || (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
+        let mut buf = Vec::with_capacity(mobile().count() * words);
+        for i in mobile() {
             self.p.pack(i, &mut buf);
         }
-        let mine = self.to_shares(&buf, words, |r| r[0] as u64, &shares);
-        drop(buf);
-        let mut states: Vec<ParticleState> = mine
-            .chunks_exact(words)
-            .map(|r| crate::particles::unpack(r, hist_words))
-            .collect();
-        drop(mine);
+        let mine = self.to_shares(buf, words, |r| r[0] as u64, &shares);
+        // exact size, each message freed once unpacked
+        let mut states = Vec::with_capacity(mine.iter().map(|m| m.len() / words).sum());
+        for m in mine {
+            states.extend(
+                m.chunks_exact(words)
+                    .map(|r| crate::particles::unpack(r, hist_words)),
+            );
+        }
         // ids are unique: an unstable sort gives the same order, in place
         states.sort_unstable_by_key(|s| s.id);
         if !with_histories {
             return (states, Vec::new());
         }
-        let mut buf = Vec::new();
-        for rec in &self.saved_histories() {
-            push_record(&mut buf, rec, hist_words);
-        }
         let rec = record_words(hist_words);
-        let mine = self.to_shares(&buf, rec, |r| r[0] as u64, &shares);
-        drop(buf);
-        let mut out: SavedHistory = mine
-            .chunks_exact(rec)
-            .map(|r| read_record(r, hist_words))
-            .collect();
+        let saved = self.saved_histories();
+        let mut buf = Vec::with_capacity(saved.len() * rec);
+        for h in &saved {
+            push_record(&mut buf, h, hist_words);
+        }
+        drop(saved);
+        let mine = self.to_shares(buf, rec, |r| r[0] as u64, &shares);
+        let mut out: SavedHistory = Vec::with_capacity(mine.iter().map(|m| m.len() / rec).sum());
+        for m in mine {
+            out.extend(m.chunks_exact(rec).map(|r| read_record(r, hist_words)));
+        }
         out.sort_unstable_by_key(|x| (x.0, x.1));
         out.dedup_by_key(|x| (x.0, x.1));
         (states, out)

@@ -60,7 +60,7 @@ pub fn duplicate_id(ps: &[ParticleState], comm: &dyn Comm) -> Option<u64> {
         to[(p.id % n as u64) as usize].push(p.id as f64);
     }
     let mut ids: Vec<u64> = comm
-        .all_to_all(&to)
+        .all_to_all(to)
         .into_iter()
         .flatten()
         .map(|x| x as u64)

@@ -283,8 +283,10 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 /// Write `ck` to `path` atomically (all ranks call this together, each with its share of
 /// the particles and histories; `ck.diag` is rank 0's): written whole under [`tmp_path`],
 /// synced, then renamed over `path`. On any error, on any rank, every rank returns it, the
-/// temporary file is removed and `path` is left as it was.
-pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String> {
+/// temporary file is removed and `path` is left as it was. The particles and histories of
+/// `ck` are freed once written, before rank 0 writes the diagnostics (whose window sums may
+/// be big): the checkpoint's peak holds only one of the two.
+pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), String> {
     let tmp = tmp_path(path);
     let root = comm.rank() == 0;
     // A disk that fills up while parallel HDF5 closes the file can leave the ranks waiting
@@ -303,7 +305,10 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &Checkpoint) -> Result<(), String
             short.unwrap_or_else(|| "rank 0 found no room for it".into())
         ));
     }
-    let written = write_rows_of_all(comm, &tmp, ck).and_then(|()| {
+    let rows_written = write_rows_of_all(comm, &tmp, ck);
+    ck.particles = Vec::new();
+    ck.histories = SavedHistory::new();
+    let written = rows_written.and_then(|()| {
         let r = if root {
             finish_file(&tmp, ck).and_then(|()| {
                 std::fs::File::open(&tmp)

@@ -590,6 +590,24 @@ fn run_locked(
     Ok(RunEnd::Finished(summary))
 }
 
+/// Bytes from which glibc's `malloc` maps a block of its own ([`return_freed_memory`]).
+pub const MMAP_THRESHOLD: usize = 128 << 10;
+
+/// Have glibc's `malloc` give big freed blocks back to the system: every block of
+/// [`MMAP_THRESHOLD`] or more is mapped on its own and unmapped when freed. By default glibc
+/// raises that threshold to the largest block freed so far (up to 32 MiB), after which the
+/// big transient buffers of a rebuild or a checkpoint (the particles in id order, the
+/// exchanges, the cell lists) come from the heap, stay resident once freed, and fragment it,
+/// so that the next big buffer adds to the peak instead of reusing them. Call it first, before
+/// anything is allocated; nothing elsewhere (other C libraries, other platforms).
+pub fn return_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets a parameter of the allocator; called before any thread.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, MMAP_THRESHOLD as i32);
+    }
+}
+
 /// Peak resident memory of this process (`VmHWM` of `/proc/self/status`), in bytes; 0 where
 /// it cannot be read.
 pub fn peak_rss_bytes() -> u64 {
@@ -668,7 +686,7 @@ fn save_checkpoint(
         });
     }
     let (particles, histories) = sim.particles_and_histories(sim.law.has_history());
-    let ck = Checkpoint {
+    let mut ck = Checkpoint {
         case_text: case_text.to_string(),
         step: sim.step,
         samples,
@@ -678,7 +696,7 @@ fn save_checkpoint(
         history_words: sim.law.history_words(),
         diag,
     };
-    let written = checkpoint::write(comm, path, &ck);
+    let written = checkpoint::write(comm, path, &mut ck);
     diags.restore(ck.diag);
     written
 }
