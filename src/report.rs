@@ -144,12 +144,15 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         .max(1.0) as usize;
     let [nx, ny, nzf] = case.field_grid();
     let ns = case.species.len();
-    // 128-bit sums: 10 per species and field bin, 2 per species and slice bin
-    let sums = 16 * ns * nx * ny * (10 * nzf + 2 * nz);
+    // 128-bit sums: 10 per species and field bin (on rank 0), 2 per species and slice bin
+    // (each rank an even block of the slices)
+    let field_sums = 16 * ns * nx * ny * 10 * nzf;
+    let slice_sums = 16 * ns * nx * ny * 2 * nz.div_ceil(ranks);
     let _ = writeln!(
         out,
-        "diagnostics    {:.1} MiB of window sums per rank; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
-        sums as f64 / (1 << 20) as f64,
+        "diagnostics    {:.1} MiB of per-slice window sums per rank, {:.1} MiB of field sums on rank 0; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
+        slice_sums as f64 / (1 << 20) as f64,
+        field_sums as f64 / (1 << 20) as f64,
         nx,
         ny,
         nzf,
