@@ -5,12 +5,13 @@
 # resident memory of the smallest and largest rank and of rank 0 (GNU time around each
 # rank), the time of the 100 steps and the rest (initial state, output and checkpoint).
 #   benches/weak_scaling.sh [PARTICLES_PER_RANK] [RANK_COUNTS]
-# Defaults: 100000 particles per rank, "1 2 4 8".
+# Defaults: 100000 particles per rank, "1 2 4 8". TUMBLER_BIN: the binary to measure (default
+# target/release/tumbler; a copy lets a build go on meanwhile).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 per_rank="${1:-100000}"
 counts="${2:-1 2 4 8}"
-bin="$here/target/release/tumbler"
+bin="${TUMBLER_BIN:-$here/target/release/tumbler}"
 case_file="$here/cases/quickstart.toml"
 [ -x "$bin" ] || cargo build --release --manifest-path "$here/Cargo.toml"
 [ -x /usr/bin/time ] || { echo "needs GNU time (apt-get install time)" >&2; exit 1; }

@@ -126,11 +126,12 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let est = memory_estimate(case);
     let share = n as f64 / ranks as f64;
     let particles_mem = share * est.per_particle() + ghosts_per_rank * est.arrays;
-    // the window sums (the diagnostics line below): rank 0 holds the whole drum's, another
-    // rank its slab's; their pages are committed only where the bed reached, about half
-    let sums_whole = window_sums_bytes(case) as f64;
-    let sums_rank0 = 0.5 * sums_whole;
-    let sums_other = sums_rank0 / ranks as f64;
+    // the window sums (the diagnostics line below): rank 0 holds the field sums and its block
+    // of the per-slice sums, another rank its block; their pages are committed only where
+    // the bed reached, about half
+    let (field_sums, slice_sums) = window_sums_bytes(case, ranks);
+    let sums_rank0 = 0.5 * (field_sums + slice_sums) as f64;
+    let sums_other = 0.5 * slice_sums as f64;
     let mem_rank0 = particles_mem + sums_rank0;
     let mem_all = mem_rank0 + (ranks - 1) as f64 * (particles_mem + sums_other);
 
@@ -223,7 +224,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     );
     let _ = writeln!(
         out,
-        "               per particle: {:.0} B of arrays, {:.0} B of neighbour list ({:.1} pairs), {:.0} B gathered in id order for a checkpoint; {:.1} MiB of window sums on rank 0 (half the whole drum's below: the bins a bed reaches)",
+        "               per particle: {:.0} B of arrays, {:.0} B of neighbour list ({:.1} pairs), {:.0} B gathered in id order for a checkpoint; {:.1} MiB of window sums on rank 0 (half of those below: the bins a bed reaches)",
         est.arrays,
         est.list,
         est.pairs,
@@ -233,11 +234,11 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     let g = &case.diagnostics;
     let nz = slices(case);
     let [nx, ny, nzf] = case.field_grid();
-    let sums = window_sums_bytes(case);
     let _ = writeln!(
         out,
-        "diagnostics    {:.1} MiB of window sums per rank; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
-        sums as f64 / (1 << 20) as f64,
+        "diagnostics    {:.1} MiB of per-slice window sums per rank, {:.1} MiB of field sums on rank 0; fields {}x{}x{} bins every {} rotations, slices {} x {}x{} bins every {} rotations, sampled every {} rotations",
+        slice_sums as f64 / (1 << 20) as f64,
+        field_sums as f64 / (1 << 20) as f64,
         nx,
         ny,
         nzf,
@@ -258,11 +259,16 @@ fn slices(case: &Case) -> usize {
         .max(1.0) as usize
 }
 
-/// Bytes of the whole drum's window sums (128-bit: 10 per species and field bin, 2 per
-/// species and slice bin).
-fn window_sums_bytes(case: &Case) -> usize {
+/// Bytes of the window sums (128-bit), as `(field sums, one rank's per-slice sums)`: 10 per
+/// species and field bin, all on rank 0; 2 per species and slice bin, each rank holding an
+/// even block of the slices.
+fn window_sums_bytes(case: &Case, ranks: usize) -> (usize, usize) {
     let [nx, ny, nzf] = case.field_grid();
-    16 * case.species.len() * nx * ny * (10 * nzf + 2 * slices(case))
+    let bins = 16 * case.species.len() * nx * ny;
+    (
+        bins * 10 * nzf,
+        bins * 2 * slices(case).div_ceil(ranks.max(1)),
+    )
 }
 
 /// The drum's shape, size and volume, and its lifters, for `tumbler check`.

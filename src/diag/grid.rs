@@ -4,7 +4,7 @@
 //! per-slice fluxes (the same `x, y` bins on every thin axial slice); they differ only in the
 //! `z` resolution and in which sums they keep ([`Quantities`]).
 
-use super::fixed::{fix, sum_to_root};
+use super::fixed::fix;
 use super::surface::Frame;
 use crate::comm::Comm;
 use crate::particles::Particles;
@@ -143,7 +143,38 @@ pub fn velocity_scale(case: &crate::case::Case) -> f64 {
         .max((case.model.gravity.abs() * case.d_max()).sqrt())
 }
 
+/// Which rank holds which axial bins of a [`BinnedSums`] once reduced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Split {
+    /// Every rank an even block of the axial bins: rank `r` of `P` holds bins
+    /// `[r nz / P, (r + 1) nz / P)` (the per-slice sums, whose size grows with the drum).
+    Even,
+    /// Rank 0 holds all of them (the fields, a fixed coarse grid derived on rank 0).
+    Root,
+}
+
+/// The axial bins `[lo, hi)` rank `rank` of `size` holds of `nz` split as `split` says.
+pub fn own_range(split: Split, nz: usize, rank: usize, size: usize) -> std::ops::Range<usize> {
+    let at = |r: usize| match split {
+        Split::Even => (nz as u128 * r as u128 / size.max(1) as u128) as usize,
+        Split::Root => {
+            if r == 0 {
+                0
+            } else {
+                nz
+            }
+        }
+    };
+    at(rank)..at(rank + 1)
+}
+
 /// Fixed-point sums per bin, species and quantity, accumulated over the samples of a window.
+///
+/// The reduced sums are held in blocks of axial bins ([`Split`]): each rank holds its own
+/// block, for every `x, y` bin the run of its axial bins, in the order of the whole sums
+/// (`x, y, z, species, quantity`, `z` before the species). A rank adds its particles in
+/// its block directly and those elsewhere to a table of the bins they touched (those of its
+/// slab, not the whole drum), which [`reduce`](Self::reduce) sends to the bins' holders.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BinnedSums {
     /// The bins.
@@ -154,45 +185,61 @@ pub struct BinnedSums {
     pub what: Quantities,
     /// Reference scales.
     pub scales: Scales,
+    /// Who holds which axial bins.
+    pub split: Split,
     /// Samples accumulated.
     pub samples: u64,
     /// Sum of the frame angles of the samples (degrees).
     pub angle_sum: f64,
-    /// The reduced window, `sums[(bin * ns + species) * q + quantity]`: whole on rank 0
-    /// (see [`hold_whole`](Self::hold_whole)), empty on the other ranks.
+    /// This rank's block of the reduced window (see [`hold_own`](Self::hold_own)), in the
+    /// whole sums' order: `sums[((xy * nown + iz - lo) * ns + species) * q + quantity]` for
+    /// `x, y` bin `xy` and axial bin `iz` in `[lo, lo + nown)`.
     pub sums: Vec<i128>,
-    /// This rank's own sums since the last reduction, only for the bins its particles
-    /// touched (those of its slab, not the whole drum): the offset in `local_values` of
-    /// each touched `(bin * ns + species) * q`.
+    /// `(rank, ranks)` whose block `sums` is, once held.
+    held: Option<(usize, usize)>,
+    /// The axial bins of this rank's block.
+    own: std::ops::Range<usize>,
+    /// This rank's own sums since the last reduction outside its block, only for the bins
+    /// its particles touched: the offset in `local_values` of each touched
+    /// `(bin * ns + species) * q` (a whole-sums index).
     local_index: HashMap<usize, usize>,
     local_values: Vec<i128>,
 }
 
-/// Values reduced at a time by [`BinnedSums::reduce`] (then rounded down to whole bins).
-const REDUCE_CHUNK: usize = 1 << 16;
-
 impl BinnedSums {
-    /// Empty sums.
-    pub fn new(grid: Grid, ns: usize, what: Quantities, scales: Scales) -> Self {
+    /// Empty sums, held as `split` says once [`hold_own`](Self::hold_own) is called.
+    pub fn new(grid: Grid, ns: usize, what: Quantities, scales: Scales, split: Split) -> Self {
         BinnedSums {
             grid,
             ns,
             what,
             scales,
+            split,
             samples: 0,
             angle_sum: 0.0,
             sums: Vec::new(),
+            held: None,
+            own: 0..0,
             local_index: HashMap::new(),
             local_values: Vec::new(),
         }
     }
 
-    /// Hold the whole sums from the start (rank 0, which reduces into them): its own
-    /// particles are then added there directly, not through the touched bins.
-    pub fn hold_whole(&mut self) {
-        if self.sums.len() != self.len() {
-            self.sums = vec![0; self.len()];
+    /// Hold this rank's block (rank `rank` of `size`) from now on: its particles there are
+    /// added to it directly. Any sums held before are dropped.
+    pub fn hold_own(&mut self, rank: usize, size: usize) {
+        if self.held == Some((rank, size)) {
+            return;
         }
+        self.own = own_range(self.split, self.grid.n[2], rank, size);
+        self.held = Some((rank, size));
+        // zeroed pages stay unmapped until a particle reaches them
+        self.sums = vec![0; self.block_len()];
+    }
+
+    /// The axial bins of this rank's block (empty before [`hold_own`](Self::hold_own)).
+    pub fn own(&self) -> std::ops::Range<usize> {
+        self.own.clone()
     }
 
     /// Length of the whole sums (bins x species x quantities).
@@ -203,6 +250,26 @@ impl BinnedSums {
     /// Whether there are no bins.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// Length of this rank's block.
+    pub fn block_len(&self) -> usize {
+        self.grid.n[0] * self.grid.n[1] * self.own.len() * self.ns * self.what.len()
+    }
+
+    /// Where this rank's block lies in the whole sums, in their order: one run of its axial
+    /// bins per `x, y` bin.
+    pub fn blocks(&self) -> crate::output::pario::Blocks {
+        let per_z = (self.ns * self.what.len()) as u64;
+        let xy = (self.grid.n[0] * self.grid.n[1]) as u64;
+        let block = self.own.len() as u64 * per_z;
+        crate::output::pario::Blocks {
+            offset: self.own.start as u64 * per_z,
+            block,
+            stride: self.grid.n[2] as u64 * per_z,
+            count: if block > 0 { xy } else { 0 },
+            total: self.len() as u64,
+        }
     }
 
     /// Forget everything accumulated.
@@ -218,10 +285,30 @@ impl BinnedSums {
         self.local_values.clear();
     }
 
-    /// The sum of `quantity` for `species` in `bin`.
+    /// The index in this rank's block of whole-sums index `at` (`None` outside it).
+    #[inline]
+    fn in_block(&self, at: usize) -> Option<usize> {
+        let per_z = self.ns * self.what.len();
+        let nz = self.grid.n[2];
+        let (xy, rest) = (at / (nz * per_z), at % (nz * per_z));
+        let (iz, within) = (rest / per_z, rest % per_z);
+        self.own
+            .contains(&iz)
+            .then(|| (xy * self.own.len() + iz - self.own.start) * per_z + within)
+    }
+
+    /// The sum of `quantity` for `species` in `bin` (a whole-grid index of a bin in this
+    /// rank's block).
     #[inline]
     pub fn get(&self, bin: usize, species: usize, quantity: usize) -> i128 {
-        self.sums[(bin * self.ns + species) * self.what.len() + quantity]
+        let at = (bin * self.ns + species) * self.what.len() + quantity;
+        match self.in_block(at) {
+            Some(k) => self.sums[k],
+            None => panic!(
+                "bin {bin} is not in this rank's block of axial bins {:?}",
+                self.own
+            ),
+        }
     }
 
     /// Add this rank's particles, seen in `frame`, in a drum turning at `omega`.
@@ -242,15 +329,16 @@ impl BinnedSums {
             let d = p.diameter[i];
             let vol = d * d * d;
             let base = (self.grid.index(xs, ys, z) * self.ns + p.species[i] as usize) * q;
-            let s = if self.sums.is_empty() {
-                let values = &mut self.local_values;
-                let at = *self.local_index.entry(base).or_insert_with(|| {
-                    values.resize(values.len() + q, 0);
-                    values.len() - q
-                });
-                &mut values[at..at + q]
-            } else {
-                &mut self.sums[base..base + q]
+            let s = match self.in_block(base) {
+                Some(k) => &mut self.sums[k..k + q],
+                None => {
+                    let values = &mut self.local_values;
+                    let at = *self.local_index.entry(base).or_insert_with(|| {
+                        values.resize(values.len() + q, 0);
+                        values.len() - q
+                    });
+                    &mut values[at..at + q]
+                }
             };
             match self.what {
                 Quantities::Fields => {
@@ -275,46 +363,49 @@ impl BinnedSums {
         self.angle_sum += frame.angle;
     }
 
-    /// Add every rank's own sums into the whole sums on rank 0 (all ranks call this
-    /// together); each rank starts its own afresh. Every rank sends the whole length in
-    /// chunks, made from the bins it touched, so no rank but 0 holds the whole drum's bins.
+    /// Add every rank's sums of the bins it touched outside its block into the blocks of
+    /// the ranks that hold them (all ranks call this together): one irregular exchange of
+    /// the touched bins only, each as its whole-sums index and its values (two 64-bit words
+    /// each, exact). Integer sums do not depend on the order, so the blocks are the same
+    /// bits on any number of ranks. Each rank starts its own afresh.
     pub fn reduce(&mut self, comm: &dyn Comm) {
-        let root = comm.rank() == 0;
-        let (len, q) = (self.len(), self.what.len());
-        if root && self.sums.len() != len {
-            self.sums = vec![0; len];
-        }
+        self.hold_own(comm.rank(), comm.size());
+        let q = self.what.len();
+        let per_z = self.ns * q;
+        let nz = self.grid.n[2];
+        // where each rank's block starts; blocks follow in rank order
+        let starts: Vec<usize> = (0..comm.size())
+            .map(|r| own_range(self.split, nz, r, comm.size()).start)
+            .collect();
         let mut touched: Vec<(usize, usize)> =
             self.local_index.iter().map(|(&b, &at)| (b, at)).collect();
         touched.sort_unstable();
-        // whole bins per chunk, so that no bin's values straddle two chunks
-        let step = (REDUCE_CHUNK / q.max(1)).max(1) * q.max(1);
-        let mut part = vec![0i128; step.min(len)];
-        let mut next = 0;
-        for start in (0..len).step_by(step) {
-            let end = (start + step).min(len);
-            let part = &mut part[..end - start];
-            part.fill(0);
-            while let Some(&(b, at)) = touched.get(next).filter(|(b, _)| *b < end) {
-                for (x, v) in part[b - start..b - start + q]
-                    .iter_mut()
-                    .zip(&self.local_values[at..at + q])
-                {
-                    *x += v;
-                }
-                next += 1;
+        let mut to: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
+        for &(b, at) in &touched {
+            let iz = (b / per_z) % nz;
+            // the holder: the last rank whose block starts at or before iz
+            let r = starts.partition_point(|&lo| lo <= iz) - 1;
+            let m = &mut to[r];
+            m.push(f64::from_bits(b as u64));
+            for &v in &self.local_values[at..at + q] {
+                m.push(f64::from_bits((v >> 64) as u64));
+                m.push(f64::from_bits(v as u64));
             }
-            sum_to_root(part, comm);
-            if root {
-                // leave the pages of bins nothing reached untouched (most of a drum's are)
-                for (x, v) in self.sums[start..end].iter_mut().zip(part.iter()) {
-                    if *v != 0 {
-                        *x += v;
-                    }
+        }
+        drop(touched);
+        self.local_index.clear();
+        self.local_values = Vec::new();
+        let from = comm.all_to_all(to);
+        for m in &from {
+            for rec in m.chunks_exact(1 + 2 * q) {
+                let b = rec[0].to_bits() as usize;
+                let k = self
+                    .in_block(b)
+                    .expect("a rank sent window sums to a rank that does not hold them");
+                for (x, w) in self.sums[k..k + q].iter_mut().zip(rec[1..].chunks_exact(2)) {
+                    *x += ((w[0].to_bits() as i64 as i128) << 64) | w[1].to_bits() as i128;
                 }
             }
         }
-        self.local_index.clear();
-        self.local_values.clear();
     }
 }

@@ -40,9 +40,17 @@ pub struct SliceWindow {
     pub split_by_sign: Vec<u8>,
 }
 
-/// Derive the window's slice diagnostics from gathered sums; `periodic` ends wrap the
-/// concentration gradient.
-pub fn derive(acc: &BinnedSums, periodic: bool) -> SliceWindow {
+/// Values per axial slice in a record of [`slice_records`]: per species `<C_s>`, `<w_s>`,
+/// `Q_up`, `Q_down`, `<C_s>(<w_s> - <w>)`; then `<w>`, `Q_up` and `Q_down` of the mixture;
+/// then per depth row the split and whether it is a sign change (1 or 0).
+pub fn record_len(ns: usize, ny: usize) -> usize {
+    5 * ns + 3 + 2 * ny
+}
+
+/// The per-slice records of the axial slices this rank holds of the reduced sums
+/// (`acc.own()`), one [`record_len`] run per slice in order: everything of a slice that
+/// needs only its own bins. [`assemble`] puts every rank's records together.
+pub fn slice_records(acc: &BinnedSums) -> Vec<f64> {
     let g = &acc.grid;
     let [nx, ny, nz] = g.n;
     let ns = acc.ns;
@@ -55,6 +63,87 @@ pub fn derive(acc: &BinnedSums, periodic: bool) -> SliceWindow {
     let bin = |ix: usize, iy: usize, iz: usize| (ix * ny + iy) * nz + iz;
     let xcs = g.centres(0);
     let to_rate = 1.0 / (samples * g.size[2] * PACKING);
+    let len = record_len(ns, ny);
+    let own = acc.own();
+    let mut out = vec![0.0; own.len() * len];
+    for (iz, rec) in own.zip(out.chunks_exact_mut(len)) {
+        let (per_s, rest) = rec.split_at_mut(5 * ns);
+        let (mix, rows) = rest.split_at_mut(3);
+        let (split_x, by_sign) = rows.split_at_mut(ny);
+        // per species: concentration, mean axial velocity, q_up, q_down, relative flux
+        for s in 0..ns {
+            per_s[5 * s] = f64::NAN;
+            per_s[5 * s + 1] = f64::NAN;
+            per_s[5 * s + 4] = f64::NAN;
+        }
+        mix[0] = f64::NAN;
+        split_x.fill(f64::NAN);
+        // cross-sectional sums
+        let mut v_s = vec![0.0; ns];
+        let mut vw_s = vec![0.0; ns];
+        for ix in 0..nx {
+            for iy in 0..ny {
+                for s in 0..ns {
+                    v_s[s] += vol(bin(ix, iy, iz), s);
+                    vw_s[s] += vol_w(bin(ix, iy, iz), s);
+                }
+            }
+        }
+        let (v, vw): (f64, f64) = (v_s.iter().sum(), vw_s.iter().sum());
+        if v > 0.0 {
+            let w_mix = vw / v;
+            mix[0] = w_mix;
+            for s in 0..ns {
+                let c = v_s[s] / v;
+                per_s[5 * s] = c;
+                if v_s[s] > 0.0 {
+                    per_s[5 * s + 1] = vw_s[s] / v_s[s];
+                }
+                per_s[5 * s + 4] = (vw_s[s] - c * vw) / v;
+            }
+        }
+        // upstream / downstream, row by row in depth
+        for iy in 0..ny {
+            let w_row: Vec<(f64, f64)> = (0..nx)
+                .filter_map(|ix| {
+                    let b = bin(ix, iy, iz);
+                    let v: f64 = (0..ns).map(|s| vol(b, s)).sum();
+                    (v > 0.0).then(|| (xcs[ix], (0..ns).map(|s| vol_w(b, s)).sum::<f64>() / v))
+                })
+                .collect();
+            if w_row.is_empty() {
+                continue;
+            }
+            let (split, sign) = split_row(&w_row);
+            split_x[iy] = split;
+            by_sign[iy] = if sign { 1.0 } else { 0.0 };
+            for ix in 0..nx {
+                let b = bin(ix, iy, iz);
+                for s in 0..ns {
+                    let q = vol_w(b, s) * to_rate;
+                    if xcs[ix] < split {
+                        per_s[5 * s + 2] += q;
+                        mix[1] += q;
+                    } else {
+                        per_s[5 * s + 3] += q;
+                        mix[2] += q;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The window's slice diagnostics from the records of every axial slice in order
+/// ([`slice_records`] of every rank, concatenated in rank order) of sums `acc` describes
+/// (its grid, species and samples); `periodic` ends wrap the concentration gradient.
+pub fn assemble(acc: &BinnedSums, records: &[f64], periodic: bool) -> SliceWindow {
+    let g = &acc.grid;
+    let [_, ny, nz] = g.n;
+    let ns = acc.ns;
+    let len = record_len(ns, ny);
+    assert_eq!(records.len(), nz * len, "one record per axial slice");
     let mut out = SliceWindow {
         samples: acc.samples,
         concentration: vec![f64::NAN; ns * nz],
@@ -70,59 +159,26 @@ pub fn derive(acc: &BinnedSums, periodic: bool) -> SliceWindow {
         split_x: vec![f64::NAN; nz * ny],
         split_by_sign: vec![0; nz * ny],
     };
-    for iz in 0..nz {
-        // cross-sectional sums
-        let mut v_s = vec![0.0; ns];
-        let mut vw_s = vec![0.0; ns];
-        for ix in 0..nx {
-            for iy in 0..ny {
-                for s in 0..ns {
-                    v_s[s] += vol(bin(ix, iy, iz), s);
-                    vw_s[s] += vol_w(bin(ix, iy, iz), s);
-                }
-            }
+    for (iz, rec) in records.chunks_exact(len).enumerate() {
+        for s in 0..ns {
+            let r = &rec[5 * s..5 * s + 5];
+            out.concentration[s * nz + iz] = r[0];
+            out.mean_axial_velocity[s * nz + iz] = r[1];
+            out.q_up[s * nz + iz] = r[2];
+            out.q_down[s * nz + iz] = r[3];
+            out.relative_flux[s * nz + iz] = r[4];
         }
-        let (v, vw): (f64, f64) = (v_s.iter().sum(), vw_s.iter().sum());
-        if v > 0.0 {
-            let w_mix = vw / v;
-            out.mixture_axial_velocity[iz] = w_mix;
-            for s in 0..ns {
-                let c = v_s[s] / v;
-                out.concentration[s * nz + iz] = c;
-                if v_s[s] > 0.0 {
-                    out.mean_axial_velocity[s * nz + iz] = vw_s[s] / v_s[s];
-                }
-                out.relative_flux[s * nz + iz] = (vw_s[s] - c * vw) / v;
-            }
-        }
-        // upstream / downstream, row by row in depth
-        for iy in 0..ny {
-            let w_row: Vec<(f64, f64)> = (0..nx)
-                .filter_map(|ix| {
-                    let b = bin(ix, iy, iz);
-                    let v: f64 = (0..ns).map(|s| vol(b, s)).sum();
-                    (v > 0.0).then(|| (xcs[ix], (0..ns).map(|s| vol_w(b, s)).sum::<f64>() / v))
-                })
-                .collect();
-            if w_row.is_empty() {
-                continue;
-            }
-            let (split, by_sign) = split_row(&w_row);
-            out.split_x[iz * ny + iy] = split;
-            out.split_by_sign[iz * ny + iy] = by_sign as u8;
-            for ix in 0..nx {
-                let b = bin(ix, iy, iz);
-                for s in 0..ns {
-                    let q = vol_w(b, s) * to_rate;
-                    if xcs[ix] < split {
-                        out.q_up[s * nz + iz] += q;
-                        out.q_up_mixture[iz] += q;
-                    } else {
-                        out.q_down[s * nz + iz] += q;
-                        out.q_down_mixture[iz] += q;
-                    }
-                }
-            }
+        let mix = &rec[5 * ns..5 * ns + 3];
+        out.mixture_axial_velocity[iz] = mix[0];
+        out.q_up_mixture[iz] = mix[1];
+        out.q_down_mixture[iz] = mix[2];
+        let rows = &rec[5 * ns + 3..];
+        out.split_x[iz * ny..(iz + 1) * ny].copy_from_slice(&rows[..ny]);
+        for (b, &x) in out.split_by_sign[iz * ny..(iz + 1) * ny]
+            .iter_mut()
+            .zip(&rows[ny..])
+        {
+            *b = x as u8;
         }
     }
     // gradient and diffusivity
@@ -138,6 +194,13 @@ pub fn derive(acc: &BinnedSums, periodic: bool) -> SliceWindow {
         }
     }
     out
+}
+
+/// Derive the window's slice diagnostics from sums held whole (one rank holding every
+/// axial slice); `periodic` ends wrap the concentration gradient.
+pub fn derive(acc: &BinnedSums, periodic: bool) -> SliceWindow {
+    assert_eq!(acc.own(), 0..acc.grid.n[2], "the sums are not held whole");
+    assemble(acc, &slice_records(acc), periodic)
 }
 
 /// Where a row of occupied bins `(x, w)` changes from upstream to downstream: the sign

@@ -1,9 +1,10 @@
 //! The windowed diagnostics of a run: at every sample the surface angle is measured, the
 //! surface frame built from it, and the particles binned for the per-slice fluxes and the
-//! fields; at the end of a window the sums are reduced to rank 0 and turned into means.
+//! fields; at the end of a window the sums are reduced to the ranks that hold them (the
+//! per-slice sums in even blocks of slices, the fields on rank 0) and turned into means.
 
 use super::fields::{self, FieldWindow};
-use super::grid::{BinnedSums, Grid, Quantities, Scales};
+use super::grid::{BinnedSums, Grid, Quantities, Scales, Split};
 use super::slices::{self, SliceWindow};
 use super::surface::{Frame, SurfaceAngles, SurfaceGauge};
 use super::AxialBins;
@@ -114,12 +115,14 @@ impl Windows {
                 ns,
                 Quantities::Flux,
                 scales,
+                Split::Even,
             ),
             fields: BinnedSums::new(
                 Grid::new([nx, ny, nzf], radius, -0.5 * length, length),
                 ns,
                 Quantities::Fields,
                 scales,
+                Split::Root,
             ),
             angles: AngleSums::new(axial.nz),
         }
@@ -146,13 +149,22 @@ impl Windows {
         self.fields.add(p, &frame, self.omega);
     }
 
-    /// End the per-slice window: reduce, derive on rank 0 (`None` elsewhere), start afresh.
+    /// Hold this rank's blocks of the reduced sums (rank `rank` of `size`) from the start.
+    pub fn hold_own(&mut self, rank: usize, size: usize) {
+        self.slices.hold_own(rank, size);
+        self.fields.hold_own(rank, size);
+    }
+
+    /// End the per-slice window: reduce each block of slices to the rank that holds it,
+    /// which derives what each of its slices needs of its own bins; gather those per-slice
+    /// records on rank 0, which adds the gradients (`None` elsewhere); start afresh.
     pub fn flush_slices(&mut self, comm: &dyn Comm) -> Option<SliceRecord> {
         self.slices.reduce(comm);
-        let out = (comm.rank() == 0).then(|| {
+        let records = comm.gather_f64(&slices::slice_records(&self.slices));
+        let out = records.map(|records| {
             let (angle, angle_drum) = self.angles.means();
             SliceRecord {
-                slices: slices::derive(&self.slices, self.periodic),
+                slices: slices::assemble(&self.slices, &records, self.periodic),
                 angle,
                 angle_drum,
             }
@@ -170,21 +182,11 @@ impl Windows {
         out
     }
 
-    /// Gather the partial windows on rank 0 for a checkpoint; the other ranks clear theirs,
-    /// so nothing is counted twice when the run goes on.
+    /// Reduce the partial windows into the ranks' blocks for a checkpoint (each rank then
+    /// holds its block whole and nothing outside it, so nothing is counted twice when the
+    /// run goes on).
     pub fn consolidate(&mut self, comm: &dyn Comm) {
         self.slices.reduce(comm);
         self.fields.reduce(comm);
-        if comm.rank() != 0 {
-            let (s, f) = (self.slices.samples, self.fields.samples);
-            let (sa, fa) = (self.slices.angle_sum, self.fields.angle_sum);
-            self.slices.clear();
-            self.fields.clear();
-            // sample counts and frame angles are the same on every rank; keep them
-            self.slices.samples = s;
-            self.fields.samples = f;
-            self.slices.angle_sum = sa;
-            self.fields.angle_sum = fa;
-        }
     }
 }

@@ -8,10 +8,13 @@
 //! progress (exact sums, so a restart averages the same bits). The particles and contacts
 //! are written by all ranks together, each its own rows (`output::pario`: MPI-IO, a share of
 //! about N/P rows of the id order per rank, [`crate::engine::Sim::particles_and_histories`]);
-//! rank 0 then adds the attributes and the diagnostics (small). It is written as `NAME.tmp`,
-//! flushed to disk and renamed over `NAME` by rank 0 once every rank has closed it, so the
-//! previous checkpoint stays whole until the new one is; a failed write (a full disk) removes
-//! the temporary file. A restart reads only its share of the rows ([`read_share`]). (The run
+//! so are the window sums in progress, each rank its own block of them ([`SavedSums`],
+//! `pario::write_blocks`); rank 0 then adds the attributes and the rest of the diagnostics
+//! (small). It is written as `NAME.tmp`, flushed to disk and renamed over `NAME` by rank 0
+//! once every rank has closed it, so the previous checkpoint stays whole until the new one
+//! is; a failed write (a full disk) removes the temporary file. A restart reads only its
+//! share of the rows ([`read_share`]) and its own block of the window sums ([`read_sums`]),
+//! whatever number of ranks wrote them. (The run
 //! draws no random numbers after the initial state, so there is no generator state to keep.)
 //!
 //! The window sums (fixed-point `i128`, stored as their high and low 64-bit halves) are
@@ -64,8 +67,8 @@ pub struct Checkpoint {
     pub diag: DiagState,
 }
 
-/// The diagnostics' state a restart needs: the sums of the windows in progress (gathered on
-/// rank 0) and the ids of the particles whose paths are recorded.
+/// The diagnostics' state a restart needs: the sums of the windows in progress (each rank
+/// its own block) and the ids of the particles whose paths are recorded.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DiagState {
     /// Per-slice sums.
@@ -93,23 +96,22 @@ pub struct SavedSums {
     pub samples: u64,
     /// Sum of their frame angles, degrees.
     pub angle_sum: f64,
-    /// Fixed-point sums (see `diag::grid::BinnedSums`): whole on rank 0, empty on the
-    /// other ranks of a restart (they add theirs from then on).
+    /// Fixed-point sums (see `diag::grid::BinnedSums`): this rank's `blocks` of them when
+    /// written; when read, empty ([`read_share`]: each rank then reads its own block with
+    /// [`read_sums`]) or whole ([`read`]).
     pub sums: Vec<i128>,
-    /// How many sums the window holds (`sums.len()` where they were read).
+    /// How many sums the whole window holds.
     pub len: usize,
+    /// Where `sums` lie in the whole window's sums, in the file's order.
+    pub blocks: pario::Blocks,
 }
 
+/// Rank 0's part of the diagnostics group (the sums are in it already, written by every
+/// rank in [`write_rows_of_all`]).
 fn write_diag(f: &hdf5::File, d: &DiagState) -> hdf5::Result<()> {
-    let g = f.create_group("diagnostics")?;
+    let g = f.group("diagnostics")?;
     for (name, s) in [("slices", &d.slices), ("fields", &d.fields)] {
-        let (samples, angle_sum, sums) = (&s.samples, &s.angle_sum, &s.sums);
-        // one half at a time, to keep the checkpoint's memory peak low
-        let hi: Vec<i64> = sums.iter().map(|&x| (x >> 64) as i64).collect();
-        put_compressed(&g, &format!("{name}_hi"), &hi)?;
-        drop(hi);
-        let lo: Vec<u64> = sums.iter().map(|&x| x as u64).collect();
-        put_compressed(&g, &format!("{name}_lo"), &lo)?;
+        let (samples, angle_sum) = (&s.samples, &s.angle_sum);
         g.new_attr::<u64>()
             .create(format!("{name}_samples").as_str())?
             .write_scalar(samples)?;
@@ -166,21 +168,75 @@ fn put<T: H5Type>(g: &hdf5::Group, name: &str, data: &[T], cols: usize) -> hdf5:
     Ok(())
 }
 
-/// Write the 1-D `data` as dataset `name` of `g`, chunked with the byte shuffle, gzip and a
-/// Fletcher32 checksum per chunk: the window sums, whose bins are mostly empty (zeros),
-/// shrink to a few per cent and read back bit for bit.
-fn put_compressed<T: H5Type>(g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<()> {
-    let b = g.new_dataset_builder().with_data(data);
-    if data.is_empty() {
-        b.create(name)?;
+/// Create the 1-D dataset `name` of `len` values in `g` (every rank, with the same
+/// arguments), chunked with a Fletcher32 checksum, the byte shuffle and gzip per chunk: the
+/// window sums, whose bins are mostly empty (zeros), shrink to a few per cent and read back
+/// bit for bit.
+fn create_compressed<T: H5Type>(
+    g: &hdf5::Group,
+    name: &str,
+    len: usize,
+) -> hdf5::Result<hdf5::Dataset> {
+    let b = g.new_dataset::<T>();
+    if len == 0 {
+        b.shape(0).create(name)
     } else {
-        b.chunk(data.len().clamp(1, CHUNK_ROWS))
+        b.chunk(len.clamp(1, CHUNK_ROWS))
             .fletcher32()
             .shuffle()
             .deflate(super::series::GZIP_LEVEL)
-            .create(name)?;
+            .shape(len)
+            .create(name)
+    }
+}
+
+/// Write every rank's block of the window sums of `d` into the diagnostics group `g` of the
+/// file every rank has open (collective): the high and low 64-bit halves as two datasets.
+fn write_sums_of_all(f: &pario::ParFile, g: &hdf5::Group, d: &DiagState) -> Result<(), String> {
+    let comm = f.comm;
+    for (name, s) in [("slices", &d.slices), ("fields", &d.fields)] {
+        // one half at a time, to keep the checkpoint's memory peak low
+        let hi_name = format!("{name}_hi");
+        let ds = pario::together(comm, create_compressed::<i64>(g, &hi_name, s.len))?;
+        let hi: Vec<i64> = s.sums.iter().map(|&x| (x >> 64) as i64).collect();
+        pario::write_blocks(f, &ds, &hi, s.blocks)?;
+        drop((hi, ds));
+        let lo_name = format!("{name}_lo");
+        let ds = pario::together(comm, create_compressed::<u64>(g, &lo_name, s.len))?;
+        let lo: Vec<u64> = s.sums.iter().map(|&x| x as u64).collect();
+        pario::write_blocks(f, &ds, &lo, s.blocks)?;
     }
     Ok(())
+}
+
+/// Read `blocks` of the window sums `name` (`slices` or `fields`) of the checkpoint at
+/// `path`: each rank of a restart reads its own block, whatever number of ranks wrote them.
+pub fn read_sums(path: &Path, name: &str, blocks: pario::Blocks) -> Result<Vec<i128>, String> {
+    let f = hdf5::File::open(path).map_err(err(path))?;
+    read_sums_of(&f, path, name, blocks)
+}
+
+fn read_sums_of(
+    f: &hdf5::File,
+    path: &Path,
+    name: &str,
+    blocks: pario::Blocks,
+) -> Result<Vec<i128>, String> {
+    let half = |which: &str| format!("diagnostics/{name}_{which}");
+    let (hi_name, lo_name) = (half("hi"), half("lo"));
+    let hi: Vec<i64> = f
+        .dataset(&hi_name)
+        .and_then(|d| pario::read_blocks(&d, blocks))
+        .map_err(|e| read_error(path, &hi_name, &e))?;
+    let lo: Vec<u64> = f
+        .dataset(&lo_name)
+        .and_then(|d| pario::read_blocks(&d, blocks))
+        .map_err(|e| read_error(path, &lo_name, &e))?;
+    Ok(hi
+        .iter()
+        .zip(&lo)
+        .map(|(&h, &l)| ((h as i128) << 64) | l as i128)
+        .collect())
 }
 
 /// Read dataset `name` whole; a checksum failure says the checkpoint is damaged.
@@ -203,8 +259,8 @@ fn read_error(path: &Path, name: &str, e: &hdf5::Error) -> String {
     }
 }
 
-/// The diagnostics state; the window sums themselves only if `sums_too` (rank 0: the other
-/// ranks only need their length).
+/// The diagnostics state; the window sums themselves only if `sums_too` (whole: a restart's
+/// ranks read their own blocks with [`read_sums`]).
 fn read_diag(f: &hdf5::File, path: &Path, sums_too: bool) -> Result<DiagState, String> {
     let e = err(path);
     let g = f.group("diagnostics").map_err(&e)?;
@@ -215,36 +271,36 @@ fn read_diag(f: &hdf5::File, path: &Path, sums_too: bool) -> Result<DiagState, S
         g.attr(name).and_then(|a| a.read_scalar()).map_err(&e)
     };
     let sums = |name: &str| -> Result<SavedSums, String> {
-        if !sums_too {
-            let len = f
-                .dataset(&format!("diagnostics/{name}_hi"))
-                .map_err(&e)?
-                .size();
-            return Ok(SavedSums {
-                samples: attr_u64(&format!("{name}_samples"))?,
-                angle_sum: attr_f64(&format!("{name}_angle_sum"))?,
-                sums: Vec::new(),
-                len,
-            });
-        }
-        let hi: Vec<i64> = get(f, path, &format!("diagnostics/{name}_hi"))?;
-        let lo: Vec<u64> = get(f, path, &format!("diagnostics/{name}_lo"))?;
-        if hi.len() != lo.len() {
+        let len = f
+            .dataset(&format!("diagnostics/{name}_hi"))
+            .map_err(&e)?
+            .size();
+        let lo_len = f
+            .dataset(&format!("diagnostics/{name}_lo"))
+            .map_err(&e)?
+            .size();
+        if len != lo_len {
             return Err(format!(
                 "checkpoint {}: diagnostics/{name}_hi and _lo differ in length",
                 path.display()
             ));
         }
-        let v: Vec<i128> = hi
-            .iter()
-            .zip(&lo)
-            .map(|(&h, &l)| ((h as i128) << 64) | l as i128)
-            .collect();
+        let blocks = pario::Blocks::whole(len as u64);
+        let sums = if sums_too {
+            read_sums_of(f, path, name, blocks)?
+        } else {
+            Vec::new()
+        };
         Ok(SavedSums {
             samples: attr_u64(&format!("{name}_samples"))?,
             angle_sum: attr_f64(&format!("{name}_angle_sum"))?,
-            len: v.len(),
-            sums: v,
+            len,
+            sums,
+            blocks: if sums_too {
+                blocks
+            } else {
+                pario::Blocks::default()
+            },
         })
     };
     Ok(DiagState {
@@ -281,11 +337,11 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 }
 
 /// Write `ck` to `path` atomically (all ranks call this together, each with its share of
-/// the particles and histories; `ck.diag` is rank 0's): written whole under [`tmp_path`],
-/// synced, then renamed over `path`. On any error, on any rank, every rank returns it, the
-/// temporary file is removed and `path` is left as it was. The particles and histories of
-/// `ck` are freed once written, before rank 0 writes the diagnostics (whose window sums may
-/// be big): the checkpoint's peak holds only one of the two.
+/// the particles and histories and, in `ck.diag`, its block of the window sums): written
+/// whole under [`tmp_path`], synced, then renamed over `path`. On any error, on any rank,
+/// every rank returns it, the temporary file is removed and `path` is left as it was. The
+/// particles and histories of `ck` are freed once written, before rank 0 adds the rest of
+/// the diagnostics: the checkpoint's peak does not hold both.
 pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), String> {
     let tmp = tmp_path(path);
     let root = comm.rank() == 0;
@@ -456,6 +512,10 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         pario::write_rows(&f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
         let hist: Vec<f64> = h.iter().flat_map(|x| x.2[..fw].iter().copied()).collect();
         pario::write_rows(&f, &c, "history", &hist, fw, rows, true).map_err(on)?;
+        drop(hist);
+        drop(c);
+        let d = group("diagnostics")?;
+        write_sums_of_all(&f, &d, &ck.diag).map_err(on)?;
     }
     pario::close(f).map_err(on)
 }
@@ -488,15 +548,20 @@ fn finish_file(tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
     f.close().map_err(&e)
 }
 
-/// Read a whole checkpoint (every dataset's checksum is verified).
+/// Read a whole checkpoint, the window sums included (every dataset's checksum is verified).
 pub fn read(path: &Path) -> Result<Checkpoint, String> {
-    read_share(path, 0, 1)
+    read_part(path, 0, 1, true)
 }
 
 /// Read rank `rank`'s share (of `size` ranks) of a checkpoint: rows `[r N/P, (r+1) N/P)`
 /// of the particles and of the contacts (the checksums of the chunks read are verified),
-/// and the small rest whole.
+/// and the small rest whole; not the window sums, of which each rank reads its own block
+/// with [`read_sums`] (their length is in [`SavedSums::len`]).
 pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, String> {
+    read_part(path, rank, size, false)
+}
+
+fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkpoint, String> {
     let e = err(path);
     let f = hdf5::File::open(path).map_err(&e)?;
     let case_text: VarLenUnicode = f.attr("case").and_then(|a| a.read_scalar()).map_err(&e)?;
@@ -613,7 +678,7 @@ pub fn read_share(path: &Path, rank: usize, size: usize) -> Result<Checkpoint, S
             path.display()
         ));
     }
-    let diag = read_diag(&f, path, rank == 0)?;
+    let diag = read_diag(&f, path, sums)?;
     Ok(Checkpoint {
         case_text: case_text.as_str().to_string(),
         step,

@@ -20,7 +20,7 @@
 use super::series::{CHUNK_BYTES, FILTER_MIN_BYTES, GZIP_LEVEL};
 use crate::comm::Comm;
 use hdf5::H5Type;
-use hdf5_sys::h5d::H5Dwrite;
+use hdf5_sys::h5d::{H5Dread, H5Dwrite};
 use hdf5_sys::h5i::hid_t;
 use hdf5_sys::h5p::{H5FD_mpio_xfer_t, H5Pclose, H5Pcreate, H5Pset_dxpl_mpio};
 use hdf5_sys::h5s::{
@@ -234,21 +234,53 @@ fn write_rows_here<T: H5Type>(
     } else {
         b.shape((total, cols)).create(name)?
     };
-    let mem_type = hdf5::Datatype::from_type::<T>()?;
     let rank = if cols == 1 { 1 } else { 2 };
     let start = [rows.offset, 0];
     let count = [rows.count, cols as u64];
     let mem_dims = [rows.count.max(1), cols as u64];
+    put_selected(f, &ds, data, &mem_dims[..rank], rows.count > 0, |fs| {
+        // SAFETY: `fs` is the open file space of `ds`; `start` and `count` have its rank
+        hdf5::h5check(unsafe {
+            H5Sselect_hyperslab(
+                fs,
+                H5S_seloper_t::H5S_SELECT_SET,
+                start.as_ptr(),
+                std::ptr::null(),
+                count.as_ptr(),
+                std::ptr::null(),
+            )
+        })
+        .map(drop)
+    })?;
+    Ok(ds)
+}
+
+/// Write `data` (shaped `mem_dims`, at least one element per dimension) into the part of
+/// `ds` that `select` selects of its file space, collectively when the file is open with
+/// MPI-IO; a rank with nothing to write (`!any`) takes part with empty selections.
+fn put_selected<T: H5Type>(
+    f: &ParFile,
+    ds: &hdf5::Dataset,
+    data: &[T],
+    mem_dims: &[u64],
+    any: bool,
+    select: impl FnOnce(hid_t) -> hdf5::Result<()>,
+) -> hdf5::Result<()> {
+    let mem_type = hdf5::Datatype::from_type::<T>()?;
     let ds_id = ds.id();
     let fspace = ds.space()?;
     let (fs, tp) = (fspace.id(), mem_type.id());
     let collective = f.mpio();
     hdf5::sync::sync(|| -> hdf5::Result<()> {
-        // SAFETY: the ids are open objects of this function; the selections index `data`
-        // within its `rows.count` rows of `cols` values.
+        // SAFETY: the ids are open objects of this function; the caller's selection indexes
+        // `data` within `mem_dims`.
         unsafe {
             let check = |code: i32| hdf5::h5check(code).map(|_| ());
-            let ms = hdf5::h5check(H5Screate_simple(rank, mem_dims.as_ptr(), std::ptr::null()))?;
+            let ms = hdf5::h5check(H5Screate_simple(
+                mem_dims.len() as i32,
+                mem_dims.as_ptr(),
+                std::ptr::null(),
+            ))?;
             let dxpl: hid_t = match hdf5::h5check(H5Pcreate(*hdf5_sys::h5p::H5P_CLS_DATASET_XFER)) {
                 Ok(id) => id,
                 Err(e) => {
@@ -263,15 +295,8 @@ fn write_rows_here<T: H5Type>(
                         H5FD_mpio_xfer_t::H5FD_MPIO_COLLECTIVE,
                     ))?;
                 }
-                if rows.count > 0 {
-                    check(H5Sselect_hyperslab(
-                        fs,
-                        H5S_seloper_t::H5S_SELECT_SET,
-                        start.as_ptr(),
-                        std::ptr::null(),
-                        count.as_ptr(),
-                        std::ptr::null(),
-                    ))?;
+                if any {
+                    select(fs)?;
                 } else {
                     check(H5Sselect_none(fs))?;
                     check(H5Sselect_none(ms))?;
@@ -282,8 +307,163 @@ fn write_rows_here<T: H5Type>(
             H5Sclose(ms);
             result
         }
+    })
+}
+
+/// This rank's part of a 1-D dataset of `total` values that the ranks hold in blocks:
+/// `count` blocks of `block` values, `stride` apart, the first at `offset` (a hyperslab).
+/// The per-slice window sums (`diag::grid::BinnedSums`) are laid out `x, y, z, ...` with
+/// `z` fastest, so a rank's own run of axial slices is one block per `x, y` bin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Blocks {
+    /// First value of the first block.
+    pub offset: u64,
+    /// Values per block.
+    pub block: u64,
+    /// Distance between the starts of consecutive blocks.
+    pub stride: u64,
+    /// Number of blocks.
+    pub count: u64,
+    /// Values in the whole dataset.
+    pub total: u64,
+}
+
+impl Blocks {
+    /// The whole dataset of `total` values as one block.
+    pub fn whole(total: u64) -> Blocks {
+        Blocks {
+            offset: 0,
+            block: total,
+            stride: total,
+            count: u64::from(total > 0),
+            total,
+        }
+    }
+
+    /// Values in this rank's part.
+    pub fn len(&self) -> u64 {
+        self.block * self.count
+    }
+
+    /// Whether this rank's part is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The same values with adjacent blocks merged (`stride == block`: one block).
+    fn simplest(self) -> Blocks {
+        if self.count > 1 && self.stride == self.block {
+            Blocks {
+                block: self.block * self.count,
+                stride: self.block * self.count,
+                count: 1,
+                ..self
+            }
+        } else {
+            self
+        }
+    }
+
+    /// Whether the blocks lie within the dataset without overlapping.
+    fn fits(&self, total: u64) -> bool {
+        self.total == total
+            && (self.is_empty()
+                || (self.stride >= self.block
+                    && (self.count - 1)
+                        .checked_mul(self.stride)
+                        .and_then(|x| x.checked_add(self.offset + self.block))
+                        .is_some_and(|end| end <= total)))
+    }
+
+    /// Select the blocks in the 1-D file space `fs`.
+    fn select(&self, fs: hid_t) -> hdf5::Result<()> {
+        let b = self.simplest();
+        let (start, stride, count, block) = ([b.offset], [b.stride], [b.count], [b.block]);
+        // SAFETY: `fs` is an open 1-D dataspace; the arrays have its rank
+        hdf5::h5check(unsafe {
+            H5Sselect_hyperslab(
+                fs,
+                H5S_seloper_t::H5S_SELECT_SET,
+                start.as_ptr(),
+                stride.as_ptr(),
+                count.as_ptr(),
+                block.as_ptr(),
+            )
+        })
+        .map(drop)
+    }
+}
+
+/// Write this rank's `blocks` of the 1-D dataset `ds` (created beforehand on every rank with
+/// the same arguments), `data` being the blocks' values in the file's order; every rank
+/// calls this together (collective transfer), and the ranks agree on the outcome before
+/// returning. The ranks' blocks together make the whole dataset, each value written once.
+pub fn write_blocks<T: H5Type>(
+    f: &ParFile,
+    ds: &hdf5::Dataset,
+    data: &[T],
+    blocks: Blocks,
+) -> Result<(), String> {
+    let r = (|| {
+        let total = ds.size() as u64;
+        if !blocks.fits(total) || data.len() as u64 != blocks.len() {
+            return Err(hdf5::Error::from(
+                format!(
+                    "{} values do not make the blocks {blocks:?} of a dataset of {total}",
+                    data.len()
+                )
+                .as_str(),
+            ));
+        }
+        let mem_dims = [blocks.len().max(1)];
+        put_selected(f, ds, data, &mem_dims, !blocks.is_empty(), |fs| {
+            blocks.select(fs)
+        })
+    })();
+    together(f.comm, r).map_err(|e| format!("{}: {e}", ds.name()))
+}
+
+/// Read `blocks` of the 1-D dataset `ds`, in the file's order (the checksums of the chunks
+/// read are verified, as for any read).
+pub fn read_blocks<T: H5Type + Copy + Default>(
+    ds: &hdf5::Dataset,
+    blocks: Blocks,
+) -> hdf5::Result<Vec<T>> {
+    let total = ds.size() as u64;
+    if !blocks.fits(total) {
+        return Err(hdf5::Error::from(
+            format!("the blocks {blocks:?} do not fit a dataset of {total} values").as_str(),
+        ));
+    }
+    let mut out = vec![T::default(); blocks.len() as usize];
+    if out.is_empty() {
+        return Ok(out);
+    }
+    let mem_type = hdf5::Datatype::from_type::<T>()?;
+    let fspace = ds.space()?;
+    let (ds_id, fs, tp) = (ds.id(), fspace.id(), mem_type.id());
+    let mem_dims = [blocks.len()];
+    hdf5::sync::sync(|| -> hdf5::Result<()> {
+        // SAFETY: the ids are open objects of this function; the memory space is `out`,
+        // which holds exactly the values the file selection selects
+        unsafe {
+            let ms = hdf5::h5check(H5Screate_simple(1, mem_dims.as_ptr(), std::ptr::null()))?;
+            let result = blocks.select(fs).and_then(|()| {
+                hdf5::h5check(H5Dread(
+                    ds_id,
+                    tp,
+                    ms,
+                    fs,
+                    hdf5_sys::h5p::H5P_DEFAULT,
+                    out.as_mut_ptr().cast(),
+                ))
+                .map(drop)
+            });
+            H5Sclose(ms);
+            result
+        }
     })?;
-    Ok(ds)
+    Ok(out)
 }
 
 /// Read this rank's `rows` of dataset `ds` (`cols` values per row, 1-D when `cols` is 1),

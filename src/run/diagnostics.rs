@@ -8,7 +8,7 @@ use crate::comm::Comm;
 use crate::diag::grid::velocity_scale;
 use crate::diag::{AxialBins, BandRule, PathTracker, Windows};
 use crate::engine::Sim;
-use crate::output::checkpoint::{DiagState, SavedSums};
+use crate::output::checkpoint::{self, DiagState, SavedSums};
 use crate::output::diag_file::{self, DiagLayout};
 use crate::output::{xdmf, RunFile};
 use std::path::{Path, PathBuf};
@@ -134,7 +134,7 @@ impl RunDiagnostics {
         sim: &Sim,
         comm: &dyn Comm,
         output: &Path,
-        restored: Option<&DiagState>,
+        restored: Option<(&DiagState, &Path)>,
     ) -> Result<Self, String> {
         let g = &case.diagnostics;
         let d_max = case.d_max();
@@ -166,16 +166,12 @@ impl RunDiagnostics {
             }
         }
         let mut windows = Windows::new(case, &axial);
-        if comm.rank() == 0 {
-            windows.slices.hold_whole();
-            windows.fields.hold_whole();
-        }
+        windows.hold_own(comm.rank(), comm.size());
         let paths = match restored {
-            Some(d) if !d.whole_windows => {
+            Some((d, _)) if !d.whole_windows => {
                 return Err("the checkpoint was written by a tumbler whose diagnostics windows were whole numbers of steps, not of rotations; its windows (in progress and in the output) cannot be continued on this schedule: finish that run with the version that started it".into());
             }
-            Some(d) => {
-                let root = comm.rank() == 0;
+            Some((d, path)) => {
                 let grid = case.field_grid();
                 let differ = |what: &str, a: usize, b: usize| {
                     let mut m = format!(
@@ -188,18 +184,26 @@ impl RunDiagnostics {
                     }
                     m
                 };
-                for (acc, saved) in [
-                    (&mut windows.slices, &d.slices),
-                    (&mut windows.fields, &d.fields),
+                for (name, acc, saved) in [
+                    ("slices", &mut windows.slices, &d.slices),
+                    ("fields", &mut windows.fields, &d.fields),
                 ] {
                     if saved.len != acc.len() {
                         return Err(differ("sums", saved.len, acc.len()));
                     }
                     acc.samples = saved.samples;
                     acc.angle_sum = saved.angle_sum;
-                    if root {
-                        acc.sums = saved.sums.clone();
+                    // each rank reads its own block, whatever number of ranks wrote them
+                    let read = checkpoint::read_sums(path, name, acc.blocks());
+                    if let (Err(e), false) = (&read, comm.rank() == 0) {
+                        log::error!("rank {}: {e}", comm.rank());
                     }
+                    if !comm.all_ok(read.is_ok()) {
+                        return Err(read.err().unwrap_or_else(|| {
+                            "another rank could not read its block of the checkpoint's window sums (see its message)".into()
+                        }));
+                    }
+                    acc.sums = read?;
                 }
                 let (a, b) = (d.angles.slice_sum.len(), windows.angles.slice_sum.len());
                 if a != b {
@@ -402,7 +406,8 @@ impl RunDiagnostics {
         }
     }
 
-    /// The state a checkpoint keeps (all ranks call this; meaningful on rank 0).
+    /// The state a checkpoint keeps (all ranks call this): each rank's block of the window
+    /// sums, and the rest, the same on every rank.
     ///
     /// The window sums are moved into the state, not copied (they are the largest part of a
     /// checkpoint of a small run); give them back with [`restore`](Self::restore).
@@ -413,6 +418,7 @@ impl RunDiagnostics {
             samples: b.samples,
             angle_sum: b.angle_sum,
             len: b.len(),
+            blocks: b.blocks(),
             sums: std::mem::take(&mut b.sums),
         };
         DiagState {

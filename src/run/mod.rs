@@ -221,7 +221,7 @@ fn run_locked(
                     sim.rotations()
                 );
             }
-            restored_diag = Some(ck.diag);
+            restored_diag = Some((ck.diag, path.clone()));
             (sim, Some(ck.samples))
         }
         None => {
@@ -263,7 +263,13 @@ fn run_locked(
     };
     let n_total = sim.global_count();
 
-    let mut diags = RunDiagnostics::new(case, &sim, comm, &opts.output, restored_diag.as_ref())?;
+    let mut diags = RunDiagnostics::new(
+        case,
+        &sim,
+        comm,
+        &opts.output,
+        restored_diag.as_ref().map(|(d, p)| (d, p.as_path())),
+    )?;
     let bins = diags.axial.clone();
     let balance_steps = steps_for(case.run.balance_every, case.drum.omega, case.dt()).max(1);
     let (band_rule, big) = (diags.rule, diags.big);
