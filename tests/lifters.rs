@@ -148,7 +148,9 @@ fn the_lifters_area_below_a_height_is_a_grid_count_of_their_sections() {
     let all = l.count as f64 * l.section_area();
     assert!((l.area_below(2.0) - all).abs() < 1e-15);
     assert_eq!(l.area_below(-2.0), 0.0);
-    for h in [-0.95, -0.5, -0.25, 0.0, 0.1, 0.24, 0.26, 0.28, 0.3, 0.5, 0.75, 0.9, 0.97] {
+    for h in [
+        -0.95, -0.5, -0.25, 0.0, 0.1, 0.24, 0.26, 0.28, 0.3, 0.5, 0.75, 0.9, 0.97,
+    ] {
         let mut cells = 0u64;
         for k in 0..l.count {
             let (_, c, e) = l.section(k);
@@ -179,7 +181,9 @@ fn the_pour_cuts_the_bed_at_its_share_of_the_free_volume() {
         "diameter = 2.0\nlength = 4.0\nends = \"capped\"\n[lifters]\ncount = 6\nheight = 0.3\nthickness = 0.1\nangle = 0.2",
     ));
     let l = w.lifters.as_ref().unwrap();
-    assert!((w.volume() - (4.0 * std::f64::consts::PI - 4.0 * 6.0 * l.section_area())).abs() < 1e-12);
+    assert!(
+        (w.volume() - (4.0 * std::f64::consts::PI - 4.0 * 6.0 * l.section_area())).abs() < 1e-12
+    );
     // the free cross-section below the cut, counted on a grid: inside the wall and clear of
     // every lifter
     let delta = 4e-4;

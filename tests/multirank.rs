@@ -133,13 +133,15 @@ fn assert_identical_with(
             &format!("{case} on {ranks} ranks vs 1"),
         );
         // every thermo column but the rate (wall clock), the airborne fraction among them
-        let log = |r: usize| {
-            std::fs::read_to_string(dir.path().join(format!("{case}.{r}.log"))).unwrap()
-        };
+        let log =
+            |r: usize| std::fs::read_to_string(dir.path().join(format!("{case}.{r}.log"))).unwrap();
         let (log1, logn) = (log(1), log(ranks));
         let (t1, tn) = (common::thermo_bits(&log1), common::thermo_bits(&logn));
         assert!(t1.len() >= 2, "{case}: thermo lines\n{log1}");
-        assert_eq!(t1, tn, "{case}: thermo on {ranks} ranks vs 1\n{log1}\n{logn}");
+        assert_eq!(
+            t1, tn,
+            "{case}: thermo on {ranks} ranks vs 1\n{log1}\n{logn}"
+        );
         others.push(other);
     }
     others

@@ -83,7 +83,10 @@ fn the_log_holds_every_line_and_thermo_columns_that_parse() {
     assert!(last[3] > rows[0][3], "{log}");
     assert!(rows[0][5] > 0.0, "a settled bed has contacts");
     let airborne = rows[0][thermo_column("Airborne")];
-    assert!(airborne < 0.05, "a settled bed: {airborne} of it touching nothing");
+    assert!(
+        airborne < 0.05,
+        "a settled bed: {airborne} of it touching nothing"
+    );
 }
 
 #[test]
