@@ -12,7 +12,7 @@ use tumbler::comm::SerialComm;
 use tumbler::engine::{thermo, Sim};
 use tumbler::init::{initial_particles, pour, Share};
 use tumbler::particles::ParticleState;
-use tumbler::physics::walls::{wall_velocity, Cone, DrumWalls};
+use tumbler::physics::walls::{wall_velocity, Cone, DrumWalls, Lifters};
 use tumbler::physics::V3;
 
 fn drum(text: &str) -> Drum {
@@ -112,6 +112,105 @@ fn the_drum_asks_its_lifters_for_inside_near_and_volume() {
     let plain = std::f64::consts::PI * 4.0;
     let lifters = 4.0 * 4.0 * ((1.0 - 0.81) * 0.02 + std::f64::consts::PI * 0.02 * 0.02 / 8.0);
     assert!((w.volume() - (plain - lifters)).abs() < 1e-12);
+}
+
+/// Whether `p` is in the cross-section of lifter `k` ([`Lifters::section`]): the rectangle
+/// or the half disc of the tip.
+fn in_section(l: &Lifters, k: usize, p: [f64; 2]) -> bool {
+    let (_, c, e) = l.section(k);
+    let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+    let u = dx * e[0] + dy * e[1];
+    let w = dy * e[0] - dx * e[1];
+    let hw = 0.5 * l.thickness;
+    if u >= 0.0 {
+        u <= l.radius - l.tip && w.abs() <= hw
+    } else {
+        u * u + w * w <= hw * hw
+    }
+}
+
+#[test]
+fn the_lifters_area_below_a_height_is_a_grid_count_of_their_sections() {
+    let mut w = lifter_walls();
+    // turned so that the line crosses the plates at a slant and through their rounded tips
+    w.turn_to(0.3);
+    let l = w.lifters.as_ref().unwrap();
+    let hw = 0.5 * l.thickness;
+    // cells of side delta over each plate's box (u from the tip's edge to R, |w| <= t/2)
+    let delta = hw / 200.0;
+    let (nu, nw) = (
+        ((l.radius - l.tip + hw) / delta).ceil() as usize,
+        (l.thickness / delta).ceil() as usize,
+    );
+    // a cell is miscounted only where the section's edge or the line crosses it
+    let perimeter = 2.0 * (l.radius - l.tip) + l.thickness + std::f64::consts::PI * hw;
+    let tolerance = l.count as f64 * (perimeter + 2.0 * (l.radius - l.tip + hw)) * delta;
+    let all = l.count as f64 * l.section_area();
+    assert!((l.area_below(2.0) - all).abs() < 1e-15);
+    assert_eq!(l.area_below(-2.0), 0.0);
+    for h in [
+        -0.95, -0.5, -0.25, 0.0, 0.1, 0.24, 0.26, 0.28, 0.3, 0.5, 0.75, 0.9, 0.97,
+    ] {
+        let mut cells = 0u64;
+        for k in 0..l.count {
+            let (_, c, e) = l.section(k);
+            for i in 0..nu {
+                let u = l.tip - hw + (i as f64 + 0.5) * delta - l.tip;
+                for j in 0..nw {
+                    let ww = -hw + (j as f64 + 0.5) * delta;
+                    let p = [c[0] + u * e[0] - ww * e[1], c[1] + u * e[1] + ww * e[0]];
+                    if p[1] < h && in_section(l, k, p) {
+                        cells += 1;
+                    }
+                }
+            }
+        }
+        let counted = cells as f64 * delta * delta;
+        let exact = l.area_below(h);
+        assert!(
+            (exact - counted).abs() < tolerance,
+            "h = {h}: {exact:.6e} exact, {counted:.6e} counted (tolerance {tolerance:.1e})"
+        );
+    }
+}
+
+#[test]
+fn the_pour_cuts_the_bed_at_its_share_of_the_free_volume() {
+    // six tall, thick lifters (a tenth of the cross-section), turned off the axes
+    let w = DrumWalls::of(&drum(
+        "diameter = 2.0\nlength = 4.0\nends = \"capped\"\n[lifters]\ncount = 6\nheight = 0.3\nthickness = 0.1\nangle = 0.2",
+    ));
+    let l = w.lifters.as_ref().unwrap();
+    assert!(
+        (w.volume() - (4.0 * std::f64::consts::PI - 4.0 * 6.0 * l.section_area())).abs() < 1e-12
+    );
+    // the free cross-section below the cut, counted on a grid: inside the wall and clear of
+    // every lifter
+    let delta = 4e-4;
+    let n = (2.0 / delta) as i64;
+    for fill in [0.2, 0.3, 0.5] {
+        let h = w.cut_height(fill);
+        let (mut below, mut free) = (0u64, 0u64);
+        for i in 0..n {
+            let x = -1.0 + (i as f64 + 0.5) * delta;
+            for j in 0..n {
+                let y = -1.0 + (j as f64 + 0.5) * delta;
+                if x * x + y * y <= 1.0 && w.inside([x, y, 0.0], 0.0) {
+                    free += 1;
+                    below += u64::from(y < h);
+                }
+            }
+        }
+        let share = below as f64 / free as f64;
+        // cells miscounted along the wall, the lifters' edges and the line, over the free area
+        let edges = 2.0 * std::f64::consts::PI + 6.0 * 2.0 * 0.3 + 2.0;
+        let tolerance = edges * delta / (free as f64 * delta * delta);
+        assert!(
+            (share - fill).abs() < tolerance,
+            "fill {fill}: cut at y = {h:.5}, {share:.5} of the free area below it \
+             (tolerance {tolerance:.1e})"
+        );
+    }
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Decomposition invariance, the project's central test: runs on 1, 2 and 3 ranks (`mpirun`)
-//! of the same case give bit-identical particle states and axial profiles, with particles
-//! crossing slab faces (and the periodic ends) on the way.
+//! of the same case give bit-identical particle states, axial profiles, diagnostics and
+//! thermo columns (all but the rate), with particles crossing slab faces (and the periodic
+//! ends) on the way.
 
 mod common;
 
@@ -130,6 +131,16 @@ fn assert_identical_with(
             &dir.path().join(format!("{case}.1.h5")),
             &dir.path().join(format!("{case}.{ranks}.h5")),
             &format!("{case} on {ranks} ranks vs 1"),
+        );
+        // every thermo column but the rate (wall clock), the airborne fraction among them
+        let log =
+            |r: usize| std::fs::read_to_string(dir.path().join(format!("{case}.{r}.log"))).unwrap();
+        let (log1, logn) = (log(1), log(ranks));
+        let (t1, tn) = (common::thermo_bits(&log1), common::thermo_bits(&logn));
+        assert!(t1.len() >= 2, "{case}: thermo lines\n{log1}");
+        assert_eq!(
+            t1, tn,
+            "{case}: thermo on {ranks} ranks vs 1\n{log1}\n{logn}"
         );
         others.push(other);
     }

@@ -4,9 +4,8 @@
 
 mod common;
 
-use common::{case_path, mpirun, tmpdir};
+use common::{case_path, mpirun, thermo_bits, thermo_column, thermo_rows, tmpdir};
 use std::path::Path;
-use tumbler::run::thermo::COLUMNS;
 
 fn run(ranks: usize, out: &Path, extra: &[&str]) -> String {
     let case = case_path("sd_periodic.toml");
@@ -16,30 +15,6 @@ fn run(ranks: usize, out: &Path, extra: &[&str]) -> String {
     let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(o.status.success(), "{ranks} ranks failed:\n{stderr}");
     stderr
-}
-
-/// The thermo rows of a log (each a line of numbers following a column header), per run
-/// segment (a separator line starts a segment).
-fn thermo(log: &str) -> Vec<Vec<Vec<f64>>> {
-    let header = COLUMNS.join(" ");
-    let mut segments: Vec<Vec<Vec<f64>>> = Vec::new();
-    let mut in_table = false;
-    for line in log.lines() {
-        if line.starts_with("======== ") {
-            segments.push(Vec::new());
-            in_table = false;
-        } else if line.split_whitespace().collect::<Vec<_>>().join(" ") == header {
-            in_table = true;
-        } else if in_table {
-            let row: Result<Vec<f64>, _> = line.split_whitespace().map(str::parse).collect();
-            match row {
-                Ok(row) if row.len() == COLUMNS.len() => segments.last_mut().unwrap().push(row),
-                // the table ends at the first line that is not a row
-                _ => in_table = false,
-            }
-        }
-    }
-    segments
 }
 
 fn particle_bits(path: &Path) -> Vec<(String, Vec<u64>)> {
@@ -81,7 +56,7 @@ fn the_log_holds_every_line_and_thermo_columns_that_parse() {
         rest = &rest[at + line.len()..];
     }
     assert!(log.starts_with("======== tumbler "), "{log}");
-    let segments = thermo(&log);
+    let segments = thermo_rows(&log);
     assert_eq!(segments.len(), 1, "{log}");
     let rows = &segments[0];
     // step 0, every 0.01 rotations, and the last step (unless it is on the schedule)
@@ -96,7 +71,10 @@ fn the_log_holds_every_line_and_thermo_columns_that_parse() {
         assert!(r[3].is_finite() && r[3] >= 0.0 && r[4].is_finite() && r[4] >= 0.0);
         assert!(r[5] >= 0.0 && r[5] < 3.0 * n, "contacts {}", r[5]);
         assert!(r[6] >= 0.0 && r[6] < 0.25, "largest overlap {}", r[6]);
-        assert!(k == 0 || r[8] > 0.0, "rate {}", r[8]);
+        let airborne = r[thermo_column("Airborne")];
+        assert!((0.0..=1.0).contains(&airborne), "airborne {airborne}");
+        let rate = r[thermo_column("PSteps/s")];
+        assert!(k == 0 || rate > 0.0, "rate {rate}");
         if k > 0 {
             assert!(r[0] > rows[k - 1][0], "steps go up: {log}");
         }
@@ -104,6 +82,11 @@ fn the_log_holds_every_line_and_thermo_columns_that_parse() {
     // the drum has started the bed moving
     assert!(last[3] > rows[0][3], "{log}");
     assert!(rows[0][5] > 0.0, "a settled bed has contacts");
+    let airborne = rows[0][thermo_column("Airborne")];
+    assert!(
+        airborne < 0.05,
+        "a settled bed: {airborne} of it touching nothing"
+    );
 }
 
 #[test]
@@ -120,13 +103,8 @@ fn thermo_numbers_are_the_same_on_one_and_two_ranks() {
         let out = dir.path().join(format!("r{ranks}.h5"));
         run(ranks, &out, &set);
         let log = std::fs::read_to_string(dir.path().join(format!("r{ranks}.log"))).unwrap();
-        let rows = thermo(&log).remove(0);
         // all columns but the rate
-        let exact: Vec<Vec<u64>> = rows
-            .iter()
-            .map(|r| r[..8].iter().map(|x| x.to_bits()).collect())
-            .collect();
-        tables.push((exact, log));
+        tables.push((thermo_bits(&log), log));
     }
     assert!(tables[0].0.len() >= 4);
     assert_eq!(tables[0].0, tables[1].0, "{}\n{}", tables[0].1, tables[1].1);
@@ -170,7 +148,7 @@ fn a_restart_appends_to_the_log_and_thermo_changes_no_particle() {
         appended.starts_with("\n======== tumbler ") && appended.contains("restart of"),
         "{appended}"
     );
-    let segments = thermo(&log);
+    let segments = thermo_rows(&log);
     assert_eq!(segments.len(), 2, "{log}");
     // the restart's first line is the first run's last state
     let (end, resumed) = (segments[0].last().unwrap(), &segments[1][0]);
@@ -190,7 +168,7 @@ fn a_restart_appends_to_the_log_and_thermo_changes_no_particle() {
     );
     let blog = std::fs::read_to_string(dir.path().join("b.log")).unwrap();
     assert_eq!(
-        thermo(&blog)[0].len(),
+        thermo_rows(&blog)[0].len(),
         2,
         "only the first and last step: {blog}"
     );

@@ -1,13 +1,15 @@
 //! What a run's thermo lines report about the state, measured by reading the particles and
 //! the pair list, never changing them: particle count, kinetic energies, contacts, the
-//! largest overlap and the dynamic angle of repose.
+//! largest overlap, the dynamic angle of repose and the share of particles in the air.
 //!
 //! Every value is the same bits on any number of ranks. The energies are summed in fixed
 //! point: each particle's energy is rounded to a multiple of a quantum derived from the
 //! largest single-particle energy (a maximum, exact over ranks) and the particle count, so
 //! the integer sum over ranks cannot overflow and does not depend on how the particles are
 //! shared out. A pair that spans two slabs is listed on both ranks; it is counted on the
-//! rank that owns its lower-id particle (the pair's `a`), so each contact counts once.
+//! rank that owns its lower-id particle (the pair's `a`), so each contact counts once. The
+//! airborne count is a sum of integers: each rank counts the particles it owns that touch
+//! nothing, and a pair that spans two slabs marks its particle on each side.
 
 use super::Sim;
 use crate::diag::surface::SurfaceGauge;
@@ -33,6 +35,10 @@ pub struct ThermoState {
     /// Whole-drum dynamic angle of repose in degrees (NaN when the bed has too few surface
     /// columns to fit).
     pub repose_deg: f64,
+    /// Fraction of the mobile particles that touch nothing ([`in_contact`]: no particle
+    /// within the law's interaction range, no wall or lifter within its wall reach); 0
+    /// without particles.
+    pub airborne: f64,
 }
 
 /// Fixed-point quantum for summing `n` non-negative values no larger than `max`: the sum
@@ -87,11 +93,13 @@ pub fn measure(sim: &Sim, gauge: &SurfaceGauge) -> ThermoState {
     comm.max_f64_all(&mut maxima);
     let n = sim.global_count();
     let (qt, qr) = (quantum(maxima[0], n), quantum(maxima[1], n));
-    let mut sums = [0u64, 0, contacts];
+    let touched = in_contact(sim);
+    let mut sums = [0u64, 0, contacts, 0];
     for i in mobile() {
         let (t, r) = energy(i);
         sums[0] += (t / qt).round() as u64;
         sums[1] += (r / qr).round() as u64;
+        sums[3] += u64::from(!touched[i]);
     }
     comm.sum_u64_all(&mut sums);
     let mut tops = gauge.local_tops(p);
@@ -104,6 +112,11 @@ pub fn measure(sim: &Sim, gauge: &SurfaceGauge) -> ThermoState {
         contacts: sums[2],
         max_overlap: maxima[2],
         repose_deg: gauge.angles(&tops).drum,
+        airborne: if n > 0 {
+            sums[3] as f64 / n as f64
+        } else {
+            0.0
+        },
     }
 }
 

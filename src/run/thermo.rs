@@ -3,8 +3,8 @@
 //!
 //! ```text
 //! thermo: KE_trans, KE_rot in J; MaxOverlap over the smaller diameter; Repose in degrees; ...
-//!       Step  Rotations  Particles     KE_trans       KE_rot  Contacts  MaxOverlap  Repose    PSteps/s
-//!          0     0.0000       2314  0.00000e+00  0.00000e+00      4520  1.2345e-03   31.20         nan
+//!       Step  Rotations  Particles     KE_trans       KE_rot  Contacts  MaxOverlap  Repose  Airborne    PSteps/s
+//!          0     0.0000       2314  0.00000e+00  0.00000e+00      4520  1.2345e-03   31.20    0.0013         nan
 //! ```
 //! Every column but the rate is the same on any number of ranks (`engine::thermo`).
 
@@ -16,7 +16,7 @@ use crate::engine::{Sim, PHASES};
 use std::time::Instant;
 
 /// Names of the columns, in order.
-pub const COLUMNS: [&str; 9] = [
+pub const COLUMNS: [&str; 10] = [
     "Step",
     "Rotations",
     "Particles",
@@ -25,6 +25,7 @@ pub const COLUMNS: [&str; 9] = [
     "Contacts",
     "MaxOverlap",
     "Repose",
+    "Airborne",
     "PSteps/s",
 ];
 
@@ -71,12 +72,13 @@ impl Thermo {
         [
             format!(
                 "thermo: KE_trans, KE_rot in {}; MaxOverlap over the smaller diameter of the pair; \
-                 Repose the whole-drum dynamic angle of repose in degrees; PSteps/s particle-steps \
-                 per second since the previous line (nan on the first)",
+                 Repose the whole-drum dynamic angle of repose in degrees; Airborne the fraction of \
+                 the particles touching nothing; PSteps/s particle-steps per second since the \
+                 previous line (nan on the first)",
                 self.energy_unit
             ),
             format!(
-                "{:>10} {:>10} {:>10} {:>12} {:>12} {:>9} {:>11} {:>7} {:>11}",
+                "{:>10} {:>10} {:>10} {:>12} {:>12} {:>9} {:>11} {:>7} {:>9} {:>11}",
                 COLUMNS[0],
                 COLUMNS[1],
                 COLUMNS[2],
@@ -85,7 +87,8 @@ impl Thermo {
                 COLUMNS[5],
                 COLUMNS[6],
                 COLUMNS[7],
-                COLUMNS[8]
+                COLUMNS[8],
+                COLUMNS[9]
             ),
         ]
     }
@@ -132,7 +135,7 @@ impl Thermo {
 /// One thermo line.
 pub fn line(t: &ThermoState, rotations: f64, rate: f64) -> String {
     format!(
-        "{:>10} {:>10.4} {:>10} {:>12.5e} {:>12.5e} {:>9} {:>11.4e} {:>7.2} {:>11.4e}",
+        "{:>10} {:>10.4} {:>10} {:>12.5e} {:>12.5e} {:>9} {:>11.4e} {:>7.2} {:>9.4} {:>11.4e}",
         t.step,
         rotations,
         t.particles,
@@ -141,6 +144,7 @@ pub fn line(t: &ThermoState, rotations: f64, rate: f64) -> String {
         t.contacts,
         t.max_overlap,
         t.repose_deg,
+        t.airborne,
         rate
     )
 }
@@ -159,12 +163,14 @@ mod tests {
             contacts: 5123,
             max_overlap: 3.2e-3,
             repose_deg: f64::NAN,
+            airborne: 0.0125,
         };
         let l = line(&t, 1.25, f64::NAN);
         let words: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
         assert_eq!(words.len(), COLUMNS.len());
         assert_eq!(words[0], 1200.0);
         assert_eq!(words[3], 1.5e-4);
-        assert!(words[7].is_nan() && words[8].is_nan());
+        assert!(words[7].is_nan() && words[9].is_nan());
+        assert_eq!(words[8], 0.0125);
     }
 }

@@ -132,3 +132,53 @@ pub fn assert_same_diagnostics(a: &Path, b: &Path, what: &str) {
     assert!(records("slices/samples") > 0, "{what}: no slice windows");
     assert!(records("fields/samples") > 0, "{what}: no field windows");
 }
+
+/// The thermo rows of a log (each a line of numbers following a column header), per run
+/// segment (a separator line starts a segment).
+pub fn thermo_rows(log: &str) -> Vec<Vec<Vec<f64>>> {
+    use tumbler::run::thermo::COLUMNS;
+    let header = COLUMNS.join(" ");
+    let mut segments: Vec<Vec<Vec<f64>>> = Vec::new();
+    let mut in_table = false;
+    for line in log.lines() {
+        if line.starts_with("======== ") {
+            segments.push(Vec::new());
+            in_table = false;
+        } else if line.split_whitespace().collect::<Vec<_>>().join(" ") == header {
+            in_table = true;
+        } else if in_table {
+            let row: Result<Vec<f64>, _> = line.split_whitespace().map(str::parse).collect();
+            match row {
+                Ok(row) if row.len() == COLUMNS.len() => segments.last_mut().unwrap().push(row),
+                // the table ends at the first line that is not a row
+                _ => in_table = false,
+            }
+        }
+    }
+    segments
+}
+
+/// Column `name` of the thermo rows ([`tumbler::run::thermo::COLUMNS`]).
+pub fn thermo_column(name: &str) -> usize {
+    tumbler::run::thermo::COLUMNS
+        .iter()
+        .position(|&c| c == name)
+        .unwrap_or_else(|| panic!("no thermo column {name}"))
+}
+
+/// The thermo rows of a log's first segment as bits, every column but the rate
+/// (`PSteps/s`, wall clock): what must be the same on any number of ranks.
+pub fn thermo_bits(log: &str) -> Vec<Vec<u64>> {
+    let rate = thermo_column("PSteps/s");
+    thermo_rows(log)
+        .remove(0)
+        .iter()
+        .map(|r| {
+            r.iter()
+                .enumerate()
+                .filter(|&(k, _)| k != rate)
+                .map(|(_, x)| x.to_bits())
+                .collect()
+        })
+        .collect()
+}

@@ -133,12 +133,64 @@ impl Lifters {
         self.nearest(x).5 >= d * d
     }
 
-    /// Volume of the lifters (their rounded cross-section times their length).
-    pub fn volume_in(&self, length: f64) -> f64 {
+    /// Area of one lifter's cross-section ([`Self::section`]): the rectangle and the half
+    /// disc of its rounded tip.
+    pub fn section_area(&self) -> f64 {
         let t = self.thickness;
-        let section = (self.radius - self.tip) * t + PI * t * t / 8.0;
-        let along = self.span.map_or(length, |[lo, hi]| hi - lo);
-        self.count as f64 * section * along
+        (self.radius - self.tip) * t + PI * t * t / 8.0
+    }
+
+    /// Axial length of the lifters: the span's, or `length` (the drum's) along the whole drum.
+    pub fn length_in(&self, length: f64) -> f64 {
+        self.span.map_or(length, |[lo, hi]| hi - lo)
+    }
+
+    /// Volume of the lifters (their rounded cross-section times their length; the rounded
+    /// axial ends of a span are not counted).
+    pub fn volume_in(&self, length: f64) -> f64 {
+        self.count as f64 * self.section_area() * self.length_in(length)
+    }
+
+    /// The cross-section of lifter `k` at the present angle, in the `(x, y)` plane: the
+    /// rectangle `tip <= u <= R`, `|w| <= thickness/2` (its corners, counter-clockwise) and
+    /// the half disc of radius `thickness/2` about the tip's mid-line on the side `u <= tip`
+    /// (its centre and the unit vector `e` along the lifter: the half disc is `p.e <= c.e`).
+    /// The plate's corners at the root stick out of the curved wall by at most
+    /// `thickness^2 / 8R`; they are counted (as in [`Self::volume_in`]).
+    pub fn section(&self, k: usize) -> ([[f64; 2]; 4], [f64; 2], [f64; 2]) {
+        let (c, s) = self.dirs[k];
+        let hw = 0.5 * self.thickness;
+        let at = |u: f64, w: f64| [u * c - w * s, u * s + w * c];
+        (
+            [
+                at(self.tip, -hw),
+                at(self.radius, -hw),
+                at(self.radius, hw),
+                at(self.tip, hw),
+            ],
+            at(self.tip, 0.0),
+            [c, s],
+        )
+    }
+
+    /// Area of the lifters' cross-sections ([`Self::section`]) below the height `y = h`, at
+    /// the present angle: in closed form, each rectangle clipped by the line (a polygon) and
+    /// each half disc clipped by it (a disc within a polygon).
+    pub fn area_below(&self, h: f64) -> f64 {
+        let r = 0.5 * self.thickness;
+        (0..self.count)
+            .map(|k| {
+                let (rect, centre, e) = self.section(k);
+                let plate = polygon_area(&clip_below(&rect, h));
+                // the half disc: a square about its centre cut at u = tip and below y = h,
+                // within the disc (coordinates from the centre)
+                let b = 2.0 * r;
+                let square = [[-b, -b], [b, -b], [b, b], [-b, b]];
+                let half = clip(&square, |p| -(p[0] * e[0] + p[1] * e[1]));
+                let below = clip(&half, |p| h - centre[1] - p[1]);
+                plate + disc_in_polygon(r, &below)
+            })
+            .sum()
     }
 
     /// Each lifter as a box (`R - height <= u <= R`, `|w| <= thickness/2`, the span) at the
@@ -252,4 +304,88 @@ pub(super) fn check(drum: &Drum, l: &DrumLifters, reach: f64, out: &mut Vec<(Str
             );
         }
     }
+}
+
+/// The part of a convex polygon (counter-clockwise) where `inside(p) >= 0`, for an affine
+/// `inside` (Sutherland-Hodgman against one half-plane).
+fn clip(poly: &[[f64; 2]], inside: impl Fn([f64; 2]) -> f64) -> Vec<[f64; 2]> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for (i, &a) in poly.iter().enumerate() {
+        let b = poly[(i + 1) % poly.len()];
+        let (fa, fb) = (inside(a), inside(b));
+        if fa >= 0.0 {
+            out.push(a);
+        }
+        if (fa >= 0.0) != (fb >= 0.0) {
+            let t = fa / (fa - fb);
+            out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+        }
+    }
+    out
+}
+
+/// The part of a convex polygon below the height `y = h`.
+fn clip_below(poly: &[[f64; 2]], h: f64) -> Vec<[f64; 2]> {
+    clip(poly, |p| h - p[1])
+}
+
+/// Area of a polygon (counter-clockwise; 0 for fewer than three points).
+fn polygon_area(poly: &[[f64; 2]]) -> f64 {
+    let n = poly.len();
+    if n < 3 {
+        return 0.0;
+    }
+    0.5 * (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum::<f64>()
+}
+
+/// Area of the disc of radius `r` about the origin within a polygon (counter-clockwise):
+/// the sum over its edges `ab` of the signed area of the disc within the triangle `0ab`,
+/// each edge cut where it crosses the circle into pieces inside (a triangle) or outside
+/// (a circular sector).
+fn disc_in_polygon(r: f64, poly: &[[f64; 2]]) -> f64 {
+    let n = poly.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let r2 = r * r;
+    let mut area = 0.0;
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[(i + 1) % n]);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        // |a + t d|^2 = r^2
+        let (qa, qb, qc) = (
+            d[0] * d[0] + d[1] * d[1],
+            a[0] * d[0] + a[1] * d[1],
+            a[0] * a[0] + a[1] * a[1] - r2,
+        );
+        let mut ts = vec![0.0];
+        let disc = qb * qb - qa * qc;
+        if qa > 0.0 && disc > 0.0 {
+            let root = disc.sqrt();
+            for t in [(-qb - root) / qa, (-qb + root) / qa] {
+                if t > 0.0 && t < 1.0 {
+                    ts.push(t);
+                }
+            }
+        }
+        ts.push(1.0);
+        let at = |t: f64| [a[0] + t * d[0], a[1] + t * d[1]];
+        for w in ts.windows(2) {
+            let (p, q) = (at(w[0]), at(w[1]));
+            let cross = p[0] * q[1] - p[1] * q[0];
+            let m = at(0.5 * (w[0] + w[1]));
+            if m[0] * m[0] + m[1] * m[1] <= r2 {
+                area += 0.5 * cross;
+            } else {
+                let dot = p[0] * q[0] + p[1] * q[1];
+                area += 0.5 * r2 * cross.atan2(dot);
+            }
+        }
+    }
+    area
 }

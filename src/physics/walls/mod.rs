@@ -5,7 +5,8 @@
 //! [`DrumWalls`] is the one description of the drum that the rest of the program asks:
 //! contacts ([`DrumWalls::load`]), the near-wall test of the list builds
 //! ([`DrumWalls::near`]), "inside?" ([`DrumWalls::inside`]: health, explicit particles),
-//! the interior volume and the fill below a height (the pour's count and cut), the placement
+//! the interior volume and the fill below a height (the pour's count and cut, both of the
+//! free volume: the vessel's less the lifters'), the placement
 //! bounds of the pour and the lattice, and the wall mesh of the outputs.
 //!
 //! Each vessel is one file implementing [`Vessel`] (`cylinder.rs`, `sphere.rs`, `cone.rs`),
@@ -194,13 +195,21 @@ impl DrumWalls {
                 .map_or(0.0, |l| l.volume_in(2.0 * self.half_length))
     }
 
-    /// Fraction of the vessel's volume below the height `y = h` (the lifters' volume, a
-    /// small share that depends on their angle, is not counted).
+    /// Fraction of the free volume ([`Self::volume`]: the vessel's less the lifters') below
+    /// the height `y = h`, with the lifters at their present angle: the vessel's volume below
+    /// `h` less the lifters' cross-sections below it ([`Lifters::area_below`]) times their
+    /// length (the rounded axial ends of a span are not counted, as in the volume).
     pub fn fill_below(&self, h: f64) -> f64 {
-        self.vessel.fill_below(h)
+        match &self.lifters {
+            None => self.vessel.fill_below(h),
+            Some(l) => {
+                let plates = l.area_below(h) * l.length_in(2.0 * self.half_length);
+                (self.vessel.fill_below(h) * self.vessel.volume() - plates) / self.volume()
+            }
+        }
     }
 
-    /// Height below which the vessel's volume is the fraction `fill`.
+    /// Height below which the free volume is the fraction `fill` ([`Self::fill_below`]).
     pub fn cut_height(&self, fill: f64) -> f64 {
         let radius = self.radius;
         let (mut lo, mut hi) = (-radius, radius);
