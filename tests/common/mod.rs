@@ -133,8 +133,9 @@ pub fn assert_same_diagnostics(a: &Path, b: &Path, what: &str) {
     assert!(records("fields/samples") > 0, "{what}: no field windows");
 }
 
-/// The thermo rows of a log (each a line of numbers following a column header), per run
-/// segment (a separator line starts a segment).
+/// The thermo rows of a log (each a line of numbers following a column header, up to the
+/// run's `done:` line; other lines between them, such as a load-balance report, are passed
+/// over), per run segment (a separator line starts a segment).
 pub fn thermo_rows(log: &str) -> Vec<Vec<Vec<f64>>> {
     use tumbler::run::thermo::COLUMNS;
     let header = COLUMNS.join(" ");
@@ -150,8 +151,9 @@ pub fn thermo_rows(log: &str) -> Vec<Vec<Vec<f64>>> {
             let row: Result<Vec<f64>, _> = line.split_whitespace().map(str::parse).collect();
             match row {
                 Ok(row) if row.len() == COLUMNS.len() => segments.last_mut().unwrap().push(row),
-                // the table ends at the first line that is not a row
-                _ => in_table = false,
+                // the table ends with the run's summary
+                _ if line.starts_with("done:") => in_table = false,
+                _ => {}
             }
         }
     }
