@@ -8,14 +8,14 @@ use crate::physics::Materials;
 /// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`])
 /// when each contact keeps `words` history words.
 pub const fn packed_words(words: usize) -> usize {
-    18 + WALLS * words
+    19 + WALLS * words
 }
 
 /// The most `f64` words of a particle's full state (with the largest history).
 pub const PACKED_WORDS_MAX: usize = packed_words(HISTORY_MAX);
 /// Number of `f64` words of a ghost's record at a halo build: what a pair force needs (id,
-/// species, diameter, position, velocity, spin), the head of the full record.
-pub const GHOST_WORDS: usize = 12;
+/// order key, species, diameter, position, velocity, spin), the head of the full record.
+pub const GHOST_WORDS: usize = 13;
 /// Number of `f64` words of a ghost update (position, velocity, angular velocity).
 pub const UPDATE_WORDS: usize = 9;
 
@@ -26,6 +26,9 @@ pub struct Particles {
     pub n_owned: usize,
     /// Global id, stable for the whole run.
     pub id: Vec<u64>,
+    /// Order key: where the particle was at the last sort (`engine::order`); the pair list
+    /// and the owned particles' storage follow the order of `(key, id)`.
+    pub key: Vec<u64>,
     /// Species index.
     pub species: Vec<u8>,
     /// Diameter.
@@ -58,6 +61,8 @@ pub struct Particles {
 pub struct ParticleState {
     /// Global id.
     pub id: u64,
+    /// Order key (`engine::order`; 0 before the first sort).
+    pub key: u64,
     /// Species index.
     pub species: u8,
     /// Diameter.
@@ -81,6 +86,7 @@ impl ParticleState {
     pub fn new(id: u64, species: u8, diameter: f64, x: [f64; 3], v: [f64; 3], w: [f64; 3]) -> Self {
         ParticleState {
             id,
+            key: 0,
             species,
             diameter,
             x,
@@ -131,6 +137,7 @@ impl Particles {
         // contact with one has the mobile particle's mass as m_eff, as with a wall
         let fixed = crate::physics::rough_wall::is_fixed(p.species);
         self.id.push(p.id);
+        self.key.push(p.key);
         self.species.push(p.species);
         self.diameter.push(p.diameter);
         self.inv_mass.push(if fixed { 0.0 } else { 1.0 / m });
@@ -161,6 +168,7 @@ impl Particles {
     pub fn state(&self, i: usize) -> ParticleState {
         ParticleState {
             id: self.id[i],
+            key: self.key[i],
             species: self.species[i],
             diameter: self.diameter[i],
             x: self.x[i],
@@ -200,6 +208,7 @@ impl Particles {
             }
         }
         trim(&mut self.id);
+        trim(&mut self.key);
         trim(&mut self.species);
         trim(&mut self.diameter);
         trim(&mut self.inv_mass);
@@ -215,6 +224,7 @@ impl Particles {
 
     fn truncate(&mut self, n: usize) {
         self.id.truncate(n);
+        self.key.truncate(n);
         self.species.truncate(n);
         self.diameter.truncate(n);
         self.inv_mass.truncate(n);
@@ -237,6 +247,7 @@ impl Particles {
             if !leave[i] {
                 if k != i {
                     self.id[k] = self.id[i];
+                    self.key[k] = self.key[i];
                     self.species[k] = self.species[i];
                     self.diameter[k] = self.diameter[i];
                     self.inv_mass[k] = self.inv_mass[i];
@@ -256,9 +267,45 @@ impl Particles {
         self.n_owned = k;
     }
 
+    /// Put the owned particles (no ghosts may be present) in the order of `(key, id)`, so
+    /// that particles near each other in the drum are near each other in memory.
+    pub fn sort_owned(&mut self) {
+        debug_assert_eq!(self.n_owned, self.len());
+        let mut order: Vec<u32> = (0..self.n_owned as u32).collect();
+        order.sort_unstable_by_key(|&i| (self.key[i as usize], self.id[i as usize]));
+        if order.iter().enumerate().all(|(k, &i)| k == i as usize) {
+            return;
+        }
+        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            *v = order.iter().map(|&i| v[i as usize]).collect();
+        }
+        gather(&mut self.id, &order);
+        gather(&mut self.key, &order);
+        gather(&mut self.species, &order);
+        gather(&mut self.diameter, &order);
+        gather(&mut self.inv_mass, &order);
+        gather(&mut self.inv_inertia, &order);
+        gather(&mut self.x, &order);
+        gather(&mut self.v, &order);
+        gather(&mut self.w, &order);
+        gather(&mut self.f, &order);
+        gather(&mut self.t, &order);
+        gather(&mut self.z_image, &order);
+        let w = WALLS * self.hist_words;
+        self.wall_hist = order
+            .iter()
+            .flat_map(|&i| {
+                self.wall_hist[i as usize * w..(i as usize + 1) * w]
+                    .iter()
+                    .copied()
+            })
+            .collect();
+    }
+
     /// Append particle `i`'s full state to a message buffer ([`Self::packed_words`] words).
     pub fn pack(&self, i: usize, buf: &mut Vec<f64>) {
         buf.push(self.id[i] as f64);
+        buf.push(self.key[i] as f64);
         buf.push(self.species[i] as f64);
         buf.push(self.diameter[i]);
         buf.extend_from_slice(&self.x[i]);
@@ -273,6 +320,7 @@ impl Particles {
     /// Append what a ghost of particle `i` needs (the first [`GHOST_WORDS`] of its record).
     pub fn pack_ghost(&self, i: usize, buf: &mut Vec<f64>) {
         buf.push(self.id[i] as f64);
+        buf.push(self.key[i] as f64);
         buf.push(self.species[i] as f64);
         buf.push(self.diameter[i]);
         buf.extend_from_slice(&self.x[i]);
@@ -298,7 +346,9 @@ impl Particles {
 /// Decode one ghost record written by [`Particles::pack_ghost`].
 pub fn unpack_ghost(rec: &[f64]) -> ParticleState {
     let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
-    ParticleState::new(rec[0] as u64, rec[1] as u8, rec[2], v3(3), v3(6), v3(9))
+    let mut s = ParticleState::new(rec[0] as u64, rec[2] as u8, rec[3], v3(4), v3(7), v3(10));
+    s.key = rec[1] as u64;
+    s
 }
 
 /// Decode one full-state record written by [`Particles::pack`] with `words` history words
@@ -307,18 +357,57 @@ pub fn unpack(rec: &[f64], words: usize) -> ParticleState {
     let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
     let mut wall_hist = [[0.0; HISTORY_MAX]; WALLS];
     for (k, h) in wall_hist.iter_mut().enumerate() {
-        h[..words].copy_from_slice(&rec[12 + words * k..12 + words * (k + 1)]);
+        h[..words].copy_from_slice(&rec[13 + words * k..13 + words * (k + 1)]);
     }
-    let tail = 12 + words * WALLS;
+    let tail = 13 + words * WALLS;
     ParticleState {
         id: rec[0] as u64,
-        species: rec[1] as u8,
-        diameter: rec[2],
-        x: v3(3),
-        v: v3(6),
-        w: v3(9),
+        key: rec[1] as u64,
+        species: rec[2] as u8,
+        diameter: rec[3],
+        x: v3(4),
+        v: v3(7),
+        w: v3(10),
         wall_hist,
         f: v3(tail),
         t: v3(tail + 3),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sort_owned_moves_every_field_of_a_particle_together() {
+        let case = crate::case::parse_case(include_str!("../cases/quickstart.toml"), "quickstart")
+            .unwrap();
+        let mat = Materials::new(&case);
+        let mut p = Particles::new(3);
+        // keys out of order, two equal keys ordered by id
+        for (id, key) in [(0u64, 9u64), (1, 2), (2, 9), (3, 0), (4, 2)] {
+            let f = id as f64;
+            let mut s = ParticleState::new(id, 0, 1.0 + f, [f; 3], [2.0 * f; 3], [3.0 * f; 3]);
+            s.key = key;
+            s.f = [4.0 * f; 3];
+            s.t = [5.0 * f; 3];
+            s.wall_hist = [[6.0 * f; HISTORY_MAX]; WALLS];
+            p.push_owned(&s, &mat);
+        }
+        let before: Vec<ParticleState> = (0..p.len()).map(|i| p.state(i)).collect();
+        p.sort_owned();
+        assert_eq!(p.id, vec![3, 1, 4, 0, 2]);
+        for i in 0..p.len() {
+            let s = p.state(i);
+            let mut want = before[s.id as usize];
+            for h in want.wall_hist.iter_mut() {
+                h[3..].fill(0.0);
+            }
+            assert_eq!(s, want);
+            assert_eq!(
+                p.inv_mass[i].to_bits(),
+                (1.0 / mat.mass(s.diameter)).to_bits()
+            );
+        }
     }
 }

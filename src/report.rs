@@ -40,7 +40,7 @@ pub fn memory_estimate(case: &Case) -> MemoryEstimate {
     use crate::physics::materials::WALLS;
     let words = law::ContactLaw::new(case).history_words() as f64;
     let arrays =
-        (8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
+        (8.0 + 8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
     // number density of the initial state: the lattice's, or a bed packed at 0.6
     let ns = case.species.len().max(1) as f64;
     let d = case.species.iter().map(|s| s.diameter).sum::<f64>() / ns;
@@ -64,7 +64,7 @@ pub fn memory_estimate(case: &Case) -> MemoryEstimate {
         // a dense bed's contacts, each once: about 3 per particle; the states are held
         // while the contacts are saved and packed, then received and sorted
         let contacts = pairs.min(3.0);
-        let one = std::mem::size_of::<(u64, u64, crate::physics::contact::History)>() as f64
+        let one = std::mem::size_of::<crate::engine::neighbor::SavedContact>() as f64
             + 8.0 * crate::engine::neighbor::record_words(words as usize) as f64;
         gather = gather.max(state + 2.0 * contacts * one);
     }

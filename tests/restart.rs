@@ -146,6 +146,33 @@ fn restart_with_rolling_and_cohesion_onto_another_rank_count_is_bit_identical() 
 }
 
 #[test]
+fn checkpoint_without_order_keys_resumes_in_the_order_of_the_ids() {
+    // A checkpoint written before the spatial sort has no `particles/order_key`: its
+    // particles resume with key 0, the order of the ids, which a run with
+    // `run.sort_every = 0` keeps throughout; with the sort on they sort at the next sort.
+    let dir = tmpdir();
+    let d = dir.path();
+    let drop_keys = |ck: &str| {
+        let f = hdf5::File::open_rw(d.join(ck)).unwrap();
+        f.unlink("particles/order_key").unwrap();
+    };
+    let off = ["--set", "run.sort_every=0"];
+    run_with(2, d, "full.h5", "0.1", None, &off);
+    run_with(2, d, "part.h5", "0.047", None, &off);
+    drop_keys("part.ckpt.h5");
+    run_with(3, d, "part.h5", "0.1", Some("part.ckpt.h5"), &off);
+    assert_same_run(
+        d,
+        "full.h5",
+        "part.h5",
+        "2 -> 3 ranks, a checkpoint without keys",
+    );
+    run_with(2, d, "sorted.h5", "0.047", None, &[]);
+    drop_keys("sorted.ckpt.h5");
+    run_with(3, d, "sorted.h5", "0.1", Some("sorted.ckpt.h5"), &[]);
+}
+
+#[test]
 fn checkpoint_of_another_case_is_refused() {
     let dir = tmpdir();
     let d = dir.path();

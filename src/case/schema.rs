@@ -601,6 +601,16 @@ pub struct Run {
     /// Largest accepted imbalance (max / mean work per rank) before the boundaries move.
     #[serde(default = "default_balance_tolerance")]
     pub balance_tolerance: f64,
+    /// Steps between spatial sorts of the particles (`engine::order`), which keep the pair
+    /// loop's memory accesses local as the bed mixes; 0 never sorts (the order of the ids).
+    /// A performance setting, but one that changes the order of the force sums, so runs
+    /// with different values differ in the last bits.
+    #[serde(default = "default_sort_every")]
+    pub sort_every: u64,
+}
+
+fn default_sort_every() -> u64 {
+    1000
 }
 
 fn default_balance_every() -> f64 {

@@ -7,7 +7,7 @@
 //! minimum image of the raw coordinates, so a pair is computed with the same arithmetic
 //! whichever of its particles is the ghost.
 
-use super::neighbor::{push_record, read_record, record_words, SavedHistory};
+use super::neighbor::{push_record, read_record, record_words, sort_saved, SavedHistory};
 use super::slabs::Slabs;
 use crate::comm::Comm;
 use crate::particles::{unpack, unpack_ghost, Particles, GHOST_WORDS, UPDATE_WORDS};
@@ -125,7 +125,7 @@ pub fn migrate(
                 .map(|k| leaving[k].1)
         };
         for rec in saved.iter() {
-            let (sa, sb) = (slot_of(rec.0), slot_of(rec.1));
+            let (sa, sb) = (slot_of(rec.a), slot_of(rec.b));
             for slot in [sa, sb.filter(|&s| Some(s) != sa)].into_iter().flatten() {
                 push_record(&mut out[slot], rec, p.hist_words);
                 histories += 1;
@@ -157,8 +157,7 @@ pub fn migrate(
     }
     if received_history {
         // A contact both sides already evaluated arrives as an identical copy: keep one.
-        saved.sort_unstable_by_key(|x| (x.0, x.1));
-        saved.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+        sort_saved(saved);
     }
     Migrated {
         particles: sent,

@@ -4,6 +4,7 @@ pub mod balance;
 pub mod forces;
 pub mod halo;
 pub mod neighbor;
+pub mod order;
 pub mod sim;
 pub mod slabs;
 pub mod thermo;

@@ -1,15 +1,19 @@
 //! Cell lists and a Verlet half list of pairs in a canonical order.
 //!
-//! Each pair is stored once per rank as `(a, b)` local indices with `id[a] < id[b]`, and the
-//! list is sorted by `(id[a], id[b])` (except where a rank holds a particle and its own
-//! periodic image: each copy's block of pairs then follows the other). Accumulating pair forces in list order then adds every
-//! particle's contributions in increasing order of its partners' ids, whatever the slab layout:
-//! the key to bit-identical states on any number of ranks.
+//! Particles are ordered by their *rank* `(key, id)` ([`rank_of`]; the keys, from
+//! `engine::order`, follow where the particles were at the last sort). Each pair is stored
+//! once per rank as `(a, b)` local indices with `id[a] < id[b]` (its orientation, which the
+//! force arithmetic and the history follow), and the list is sorted by the ranks of its two
+//! particles, lower first: each particle's block of partners of higher rank, the blocks in
+//! order of rank (except where a rank holds a particle and its own periodic image: each
+//! copy's block of pairs then follows the other). Accumulating pair forces in list order then
+//! adds every particle's contributions in increasing order of its partners' ranks, whatever
+//! the slab layout: the key to bit-identical states on any number of ranks.
 //!
-//! Tangential histories live beside the pairs, in the pair's canonical orientation. At a
-//! rebuild they are saved as a list sorted by `(id_a, id_b)` ([`SavedHistory`]), travel with
-//! migrating particles, and are re-attached to the new list by one merge of the two sorted
-//! lists (with a search where the list steps back, see [`NeighborList::save_histories`]).
+//! Tangential histories live beside the pairs, in the pair's orientation. At a rebuild they
+//! are saved as a list in the list's order ([`SavedHistory`]), travel with migrating
+//! particles, and are re-attached to the new list by one merge of the two sorted lists
+//! (with a search where the list steps back, see [`NeighborList::save_histories`]).
 
 use crate::particles::Particles;
 use crate::physics::contact::History;
@@ -22,33 +26,101 @@ use crate::physics::{ContactLaw, DrumWalls};
 /// volume than 27 cells of `reach` (about 58 % of it for `SPAN = 2`).
 pub const SPAN: usize = 2;
 
-/// Histories of the contacts in force, keyed and sorted by `(id_a, id_b)`, `id_a < id_b`
-/// (the first `ContactLaw::history_words` of each [`History`] used).
-pub type SavedHistory = Vec<(u64, u64, History)>;
-
-/// Words of one saved history in a message: both ids, then `words` history words.
-pub const fn record_words(words: usize) -> usize {
-    2 + words
+/// A particle's place in the canonical order: its order key, then its id.
+#[inline]
+pub fn rank_of(key: u64, id: u64) -> u128 {
+    (key as u128) << 64 | id as u128
 }
 
-/// Append one saved history to a message (ids as `f64`: exact below 2^53).
-pub fn push_record(buf: &mut Vec<f64>, (a, b, h): &(u64, u64, History), words: usize) {
-    buf.push(*a as f64);
-    buf.push(*b as f64);
-    buf.extend_from_slice(&h[..words]);
+/// The history of one contact in force: the pair's ids `a < b`, their order keys, and the
+/// history (the first `ContactLaw::history_words` words used).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SavedContact {
+    /// The lower id.
+    pub a: u64,
+    /// The higher id.
+    pub b: u64,
+    /// The order key of `a`.
+    pub key_a: u64,
+    /// The order key of `b`.
+    pub key_b: u64,
+    /// The history, in the orientation from `a` to `b`.
+    pub h: History,
+}
+
+impl SavedContact {
+    /// A contact between ids `a < b` whose keys are not known yet (0).
+    pub fn new(a: u64, b: u64, h: History) -> Self {
+        SavedContact {
+            a,
+            b,
+            key_a: 0,
+            key_b: 0,
+            h,
+        }
+    }
+
+    /// The place of the contact's pair in a list: the ranks of its two particles, lower first.
+    #[inline]
+    pub fn order(&self) -> (u128, u128) {
+        pair_order(rank_of(self.key_a, self.a), rank_of(self.key_b, self.b))
+    }
+
+    /// The pair's ids.
+    pub fn ids(&self) -> (u64, u64) {
+        (self.a, self.b)
+    }
+}
+
+/// The place of a pair of particles of ranks `ra` and `rb` in a list.
+#[inline]
+fn pair_order(ra: u128, rb: u128) -> (u128, u128) {
+    (ra.min(rb), ra.max(rb))
+}
+
+/// Histories of the contacts in force, each once, sorted by [`SavedContact::order`] (the
+/// order of the pair list).
+pub type SavedHistory = Vec<SavedContact>;
+
+/// Sort saved histories into the list's order and keep one of each contact (a contact held
+/// by two ranks arrives twice, identical).
+pub fn sort_saved(saved: &mut SavedHistory) {
+    saved.sort_unstable_by_key(SavedContact::order);
+    saved.dedup_by_key(|x| x.order());
+}
+
+/// Words of one saved history in a message: both ids and both keys, then `words` history
+/// words.
+pub const fn record_words(words: usize) -> usize {
+    4 + words
+}
+
+/// Append one saved history to a message (ids and keys as `f64`: exact below 2^53).
+pub fn push_record(buf: &mut Vec<f64>, c: &SavedContact, words: usize) {
+    buf.push(c.a as f64);
+    buf.push(c.b as f64);
+    buf.push(c.key_a as f64);
+    buf.push(c.key_b as f64);
+    buf.extend_from_slice(&c.h[..words]);
 }
 
 /// Decode one saved history written by [`push_record`].
-pub fn read_record(rec: &[f64], words: usize) -> (u64, u64, History) {
+pub fn read_record(rec: &[f64], words: usize) -> SavedContact {
     let mut h = History::default();
-    h[..words].copy_from_slice(&rec[2..2 + words]);
-    (rec[0] as u64, rec[1] as u64, h)
+    h[..words].copy_from_slice(&rec[4..4 + words]);
+    SavedContact {
+        a: rec[0] as u64,
+        b: rec[1] as u64,
+        key_a: rec[2] as u64,
+        key_b: rec[3] as u64,
+        h,
+    }
 }
 
 /// The pair list and what is needed to decide when to rebuild it.
 #[derive(Debug, Clone, Default)]
 pub struct NeighborList {
-    /// Candidate pairs `(a, b)`, `id[a] < id[b]`, sorted by ids.
+    /// Candidate pairs `(a, b)`, `id[a] < id[b]`, in the canonical order (see the module).
     pub pairs: Vec<(u32, u32)>,
     /// History of each pair (zero when not in contact): [`Self::words`] words per pair, in
     /// list order.
@@ -76,14 +148,14 @@ pub struct NeighborList {
     cell_items: Vec<u32>,
     cell_start: Vec<u32>,
     cell_of: Vec<u32>,
-    /// Scratch: local indices in order of id, and one particle's partners.
-    by_id: Vec<u32>,
-    partners: Vec<(u64, u32)>,
+    /// Scratch: local indices in order of rank, and one particle's partners.
+    by_rank: Vec<u32>,
+    partners: Vec<(u128, u32)>,
     /// Scratch, in cell order (beside `cell_items`), what the search reads of a candidate:
-    /// binning position and half its contact distance with its own kind, id, and flags
+    /// binning position and half its contact distance with its own kind, rank, and flags
     /// (1: owned, 2: fixed to the wall).
     slot_x: Vec<[f64; 4]>,
-    slot_id: Vec<u64>,
+    slot_rank: Vec<u128>,
     slot_flags: Vec<u8>,
 }
 
@@ -187,34 +259,34 @@ impl NeighborList {
         }
         // what the search needs of each candidate, contiguous in cell order
         let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
+        let rank = |i: usize| rank_of(p.key[i], p.id[i]);
         self.slot_x.clear();
-        self.slot_id.clear();
+        self.slot_rank.clear();
         self.slot_flags.clear();
         for &j in &self.cell_items {
             let j = j as usize;
             let x = p.x[j];
             self.slot_x.push([x[0], x[1], x[2] + p.z_image[j], half(j)]);
-            self.slot_id.push(p.id[j]);
+            self.slot_rank.push(rank(j));
             self.slot_flags
                 .push((j < p.n_owned) as u8 | (2 * is_fixed(p.species[j]) as u8));
         }
 
-        // Pairs are generated in canonical order: particles (owned and ghosts) in order of id,
-        // each with its higher-id partners in order of id. A pair is listed when at least one
-        // of the two is owned: a pair with a ghost is also computed where the ghost is owned
-        // (which may be this rank, for a periodic image of its own particle), with the same
-        // arithmetic.
-        let id = &p.id;
-        self.by_id.clear();
-        self.by_id.extend(0..n as u32);
-        self.by_id.sort_unstable_by_key(|&i| id[i as usize]);
+        // Pairs are generated in canonical order: particles (owned and ghosts) in order of
+        // rank, each with its partners of higher rank in order of rank. A pair is listed when
+        // at least one of the two is owned: a pair with a ghost is also computed where the
+        // ghost is owned (which may be this rank, for a periodic image of its own particle),
+        // with the same arithmetic.
+        self.by_rank.clear();
+        self.by_rank.extend(0..n as u32);
+        self.by_rank.sort_unstable_by_key(|&i| rank(i as usize));
         self.pairs.clear();
         self.cut2.clear();
-        for &i in &self.by_id {
+        for &i in &self.by_rank {
             let i = i as usize;
             let owned_i = i < p.n_owned;
             let fixed_i = is_fixed(p.species[i]);
-            let (id_i, half_i) = (id[i], half(i));
+            let (rank_i, half_i) = (rank(i), half(i));
             let xi = p.x[i];
             let zi = xi[2] + p.z_image[i];
             let c = [
@@ -236,7 +308,7 @@ impl NeighborList {
                         self.partners.resize(m + (e - s), (0, 0));
                     }
                     for s in s..e {
-                        let id_j = self.slot_id[s];
+                        let rank_j = self.slot_rank[s];
                         let flags = self.slot_flags[s];
                         let xj = self.slot_x[s];
                         let dx = xi[0] - xj[0];
@@ -246,13 +318,13 @@ impl NeighborList {
                         // skin away from touching
                         let reach = half_i + xj[3] + skin;
                         let close = dx * dx + dy * dy + dz * dz < reach * reach;
-                        // higher ids only; a ghost pairs only with owned particles; wall
+                        // higher ranks only; a ghost pairs only with owned particles; wall
                         // particles do not touch each other
                         let keep = close
-                            & (id_j > id_i)
+                            & (rank_j > rank_i)
                             & (owned_i | (flags & 1 != 0))
                             & !(fixed_i & (flags & 2 != 0));
-                        self.partners[m] = (id_j, self.cell_items[s]);
+                        self.partners[m] = (rank_j, self.cell_items[s]);
                         m += keep as usize;
                     }
                 }
@@ -260,8 +332,14 @@ impl NeighborList {
             let partners = &mut self.partners[..m];
             partners.sort_unstable();
             for &(_, j) in partners.iter() {
-                self.pairs.push((i as u32, j));
-                let c = law.cutoff(p.diameter[i], p.diameter[j as usize]);
+                // oriented by id
+                let (a, b) = if p.id[i] < p.id[j as usize] {
+                    (i as u32, j)
+                } else {
+                    (j, i as u32)
+                };
+                self.pairs.push((a, b));
+                let c = law.cutoff(p.diameter[a as usize], p.diameter[b as usize]);
                 self.cut2.push(c * c);
             }
         }
@@ -281,7 +359,7 @@ impl NeighborList {
         }
     }
 
-    /// Free the build's scratch (cells, slots, the order by id, about 60 bytes per particle
+    /// Free the build's scratch (cells, slots, the order by rank, about 70 bytes per particle
     /// and 4 per cell): kept between builds, it would add to the peak of what comes between
     /// them (a checkpoint's or a snapshot's particles in id order). The next build allocates
     /// it again (its big blocks are mapped and unmapped, see `run::return_freed_memory`).
@@ -290,13 +368,13 @@ impl NeighborList {
             &mut self.cell_items,
             &mut self.cell_start,
             &mut self.cell_of,
-            &mut self.by_id,
+            &mut self.by_rank,
         ] {
             *v = Vec::new();
         }
         self.partners = Vec::new();
         self.slot_x = Vec::new();
-        self.slot_id = Vec::new();
+        self.slot_rank = Vec::new();
         self.slot_flags = Vec::new();
     }
 
@@ -324,11 +402,12 @@ impl NeighborList {
         }
     }
 
-    /// The histories of the contacts in force, sorted by ids, each contact once.
+    /// The histories of the contacts in force, in the list's order, each contact once, with
+    /// the particles' keys of `p` (new ones, at a sort).
     ///
     /// With periodic ends a rank may hold a particle and its own image: a contact across the
     /// ends is then listed twice, as (owned, image) and (image, owned), after the blocks of
-    /// pairs of each copy, so the list is not sorted by ids there. Both copies evaluate the
+    /// pairs of each copy, so the list is not sorted there. Both copies evaluate the
     /// minimum image of the same raw coordinates and keep the same history, bit for bit.
     pub fn save_histories(&self, p: &Particles) -> SavedHistory {
         if self.words == 0 {
@@ -340,18 +419,24 @@ impl NeighborList {
             .zip(self.hist.chunks_exact(self.words))
             .filter(|(_, h)| h.iter().any(|&x| x != 0.0))
             .map(|(&(a, b), h)| {
+                let (a, b) = (a as usize, b as usize);
                 let mut w = History::default();
                 w[..h.len()].copy_from_slice(h);
-                (p.id[a as usize], p.id[b as usize], w)
+                SavedContact {
+                    a: p.id[a],
+                    b: p.id[b],
+                    key_a: p.key[a],
+                    key_b: p.key[b],
+                    h: w,
+                }
             })
             .collect();
-        saved.sort_unstable_by_key(|x| (x.0, x.1));
-        saved.dedup_by_key(|x| (x.0, x.1));
+        sort_saved(&mut saved);
         saved
     }
 
-    /// Give each pair of a freshly built list its saved history (`saved` sorted by ids, each
-    /// contact once); saved contacts without a pair here are dropped.
+    /// Give each pair of a freshly built list its saved history (`saved` in the list's
+    /// order, each contact once); saved contacts without a pair here are dropped.
     pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {
         self.forget_touching();
         if saved.is_empty() || self.words == 0 {
@@ -362,17 +447,18 @@ impl NeighborList {
         // sorted (the second copy's block of a particle and its own image)
         let mut k = 0;
         let mut last = (0, 0);
+        let rank = |i: u32| rank_of(p.key[i as usize], p.id[i as usize]);
         for (pair, h) in self.pairs.iter().zip(self.hist.chunks_exact_mut(words)) {
-            let key = (p.id[pair.0 as usize], p.id[pair.1 as usize]);
+            let key = pair_order(rank(pair.0), rank(pair.1));
             if key < last {
-                k = saved.partition_point(|x| (x.0, x.1) < key);
+                k = saved.partition_point(|x| x.order() < key);
             }
             last = key;
-            while k < saved.len() && (saved[k].0, saved[k].1) < key {
+            while k < saved.len() && saved[k].order() < key {
                 k += 1;
             }
-            if k < saved.len() && (saved[k].0, saved[k].1) == key {
-                h.copy_from_slice(&saved[k].2[..words]);
+            if k < saved.len() && saved[k].order() == key {
+                h.copy_from_slice(&saved[k].h[..words]);
             }
         }
     }

@@ -3,7 +3,11 @@
 use super::balance;
 use super::forces::{pair_forces, wall_and_body_forces};
 use super::halo::{self, Halo, UpdateBuffers};
-use super::neighbor::{push_record, read_record, record_words, Grid, NeighborList, SavedHistory};
+use super::neighbor::{
+    push_record, read_record, record_words, sort_saved, Grid, NeighborList, SavedContact,
+    SavedHistory,
+};
+use super::order::KeyGrid;
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
 use crate::case::Case;
@@ -95,6 +99,10 @@ pub struct Sim<'c> {
     pub scale: f64,
     /// Interaction range of the largest pair plus the skin: the halo width and cell size.
     pub reach: f64,
+    /// The grid of the particles' order keys.
+    keys: KeyGrid,
+    /// Steps between spatial sorts (0: never).
+    sort_every: u64,
     /// Time per phase.
     pub timers: Timers,
     /// Neighbour-list rebuilds so far.
@@ -119,7 +127,12 @@ impl<'c> Sim<'c> {
         initial: &[ParticleState],
     ) -> Result<Self, DecompositionError> {
         let mut sim = Self::assemble(case, comm, initial)?;
-        sim.rebuild_with(Vec::new(), true);
+        let order = if sim.sort_every > 0 {
+            Reorder::Sort
+        } else {
+            Reorder::Keep
+        };
+        sim.rebuild_with(Vec::new(), true, order);
         sim.forces_advancing(true);
         Ok(sim)
     }
@@ -147,14 +160,14 @@ impl<'c> Sim<'c> {
         }
         sim.step = step;
         sim.turn_drum(sim.walls.omega * step as f64 * sim.dt);
-        sim.rebuild_with(saved, true);
+        sim.rebuild_with(saved, true, Reorder::KeysOfSaved);
         Ok(sim)
     }
 
     /// Send each history of `histories` to the ranks that hold its particles: for a mobile
     /// particle, the rank whose share of `particles` (ranks in increasing order of id) has its
     /// id; for a rough wall's, the owner of its `z`, where `assemble` put it. Returns the
-    /// histories this rank receives, sorted by ids.
+    /// histories this rank receives, sorted by ids (their keys are not known yet).
     fn route_to_holders(
         &self,
         particles: &[ParticleState],
@@ -183,8 +196,8 @@ impl<'c> Sim<'c> {
             starts.get(k.saturating_sub(1)).map_or(0, |x| x.1)
         };
         let words = self.p.hist_words;
-        let ranks_of = |rec: &(u64, u64, _)| {
-            let (ra, rb) = (holder(rec.0), holder(rec.1));
+        let ranks_of = |rec: &SavedContact| {
+            let (ra, rb) = (holder(rec.a), holder(rec.b));
             [Some(ra), (rb != ra).then_some(rb)].into_iter().flatten()
         };
         let mut counts = vec![0usize; size];
@@ -206,8 +219,7 @@ impl<'c> Sim<'c> {
             .flat_map(|m| m.chunks_exact(record_words(words)))
             .map(|r| read_record(r, words))
             .collect();
-        saved.sort_unstable_by_key(|x| (x.0, x.1));
-        saved.dedup_by_key(|x| (x.0, x.1));
+        sort_saved(&mut saved);
         saved
     }
 
@@ -222,6 +234,7 @@ impl<'c> Sim<'c> {
         let reach = law::reach(case);
         let slabs = initial_slabs(case, comm.size());
         let walls = DrumWalls::of(&case.drum);
+        let radius = walls.radius;
         let mut p = Particles::new(law::ContactLaw::new(case).history_words());
         let me = comm.rank();
         for s in initial.iter().filter(|s| slabs.owner(s.x[2]) == me) {
@@ -255,6 +268,10 @@ impl<'c> Sim<'c> {
             gravity: case.model.gravity,
             scale: 1.0,
             reach,
+            // cells of the interaction range: not of the reach, or the order (and so the last
+            // bits of a run) would depend on the skin
+            keys: KeyGrid::new(radius, case.drum.axial_length(), law::range(case)),
+            sort_every: case.run.sort_every,
             timers: Timers::default(),
             rebuilds: 0,
             migrated: 0,
@@ -328,8 +345,9 @@ impl<'c> Sim<'c> {
         }
         // A hair below half the skin, so that pairs listed at exactly the list range on one
         // rank and not on another (last-bit differences of periodic images) never touch.
-        if 2.0 * moved > self.skin * (1.0 - 1e-9) {
-            self.rebuild();
+        let sort = self.sort_every > 0 && (self.step + 1).is_multiple_of(self.sort_every);
+        if 2.0 * moved > self.skin * (1.0 - 1e-9) || sort {
+            self.rebuild(sort);
             self.wall_and_body_forces(true);
         } else {
             self.update_ghosts_during_wall_forces(true);
@@ -400,10 +418,12 @@ impl<'c> Sim<'c> {
         }
     }
 
-    /// Migrate particles that left the slab, rebuild the halo and the pair list.
-    fn rebuild(&mut self) {
+    /// Migrate particles that left the slab, rebuild the halo and the pair list; with
+    /// `sort`, give every particle the order key of where it is now.
+    fn rebuild(&mut self, sort: bool) {
         let saved = self.saved_histories();
-        self.rebuild_with(saved, false);
+        let order = if sort { Reorder::Sort } else { Reorder::Keep };
+        self.rebuild_with(saved, false, order);
     }
 
     fn saved_histories(&self) -> SavedHistory {
@@ -418,17 +438,33 @@ impl<'c> Sim<'c> {
     /// `saved`. `bounds_moved`: the slab boundaries changed since the last build (or there was
     /// none), so particles may go to any rank; otherwise one that does has moved past a whole
     /// slab since the last build, and the run is stopped at the next health check.
-    fn rebuild_with(&mut self, mut saved: SavedHistory, bounds_moved: bool) {
+    /// `order`: what the particles' order keys and `saved`'s need.
+    fn rebuild_with(&mut self, mut saved: SavedHistory, bounds_moved: bool, order: Reorder) {
         let history = self.law.has_history();
-        let (p, slabs, comm, mat, reach) =
-            (&mut self.p, &self.slabs, self.comm, &self.mat, self.reach);
+        let (p, slabs, comm, mat, reach, keys) = (
+            &mut self.p,
+            &self.slabs,
+            self.comm,
+            &self.mat,
+            self.reach,
+            &self.keys,
+        );
         let (moved, halo) = self.timers.time(Phase::Comm, || {
             p.clear_ghosts();
             let moved = halo::migrate(p, slabs, comm, mat, &mut saved);
+            if order == Reorder::Sort {
+                keys.set_keys(p);
+            }
+            if order != Reorder::Keep {
+                p.sort_owned();
+            }
             let halo = halo::borders(p, slabs, comm, mat, reach);
             p.trim();
             (moved, halo)
         });
+        if order != Reorder::Keep && !saved.is_empty() {
+            give_keys(&self.p, &mut saved);
+        }
         self.migrated += moved.particles as u64;
         self.histories_migrated += moved.histories as u64;
         self.irregular_migrations += moved.irregular as u64;
@@ -516,7 +552,7 @@ impl<'c> Sim<'c> {
             .map(|i| !is_fixed(self.p.species[i]) && cut(&self.p.state(i)))
             .collect();
         self.p.remove_owned(&leave);
-        self.rebuild_with(saved, false);
+        self.rebuild_with(saved, false, Reorder::Keep);
         self.forces_advancing(false);
     }
 
@@ -576,7 +612,7 @@ impl<'c> Sim<'c> {
         }
         self.slabs.bounds = bounds;
         let saved = self.saved_histories();
-        self.rebuild_with(saved, true);
+        self.rebuild_with(saved, true, Reorder::Keep);
         BalanceCheck {
             before,
             after,
@@ -815,8 +851,42 @@ impl<'c> Sim<'c> {
         for m in mine {
             out.extend(m.chunks_exact(rec).map(|r| read_record(r, hist_words)));
         }
-        out.sort_unstable_by_key(|x| (x.0, x.1));
-        out.dedup_by_key(|x| (x.0, x.1));
+        out.sort_unstable_by_key(SavedContact::ids);
+        out.dedup_by_key(|x| x.ids());
         (states, out)
     }
+}
+
+/// What a rebuild does about the order keys.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reorder {
+    /// Nothing: the keys are those of the last sort.
+    Keep,
+    /// A sort: once migrated, the owned particles get the keys of where they are now and
+    /// their storage follows them; the ghosts bring their owners' new keys, and the saved
+    /// histories (saved with the old ones, which both sides of a slab face agree on, unlike
+    /// a ghost's new key before its owner sent it) are then given the new keys.
+    Sort,
+    /// The saved histories come from a checkpoint, without their particles' keys: they are
+    /// given them once the halo is built (and the storage is sorted, as the particles come
+    /// in the order of ids).
+    KeysOfSaved,
+}
+
+/// Give each saved history the keys of its particles as `p` holds them, and sort it into the
+/// list's order. A contact of which a particle is not here keeps key 0 for it: it has no
+/// pair in the list and is dropped.
+fn give_keys(p: &Particles, saved: &mut SavedHistory) {
+    let mut keys: Vec<(u64, u64)> = p.id.iter().copied().zip(p.key.iter().copied()).collect();
+    keys.sort_unstable();
+    keys.dedup_by_key(|x| x.0);
+    let key_of = |id: u64| {
+        keys.binary_search_by_key(&id, |x| x.0)
+            .map_or(0, |k| keys[k].1)
+    };
+    for c in saved.iter_mut() {
+        c.key_a = key_of(c.a);
+        c.key_b = key_of(c.b);
+    }
+    sort_saved(saved);
 }

@@ -3,7 +3,7 @@
 //!
 //! One HDF5 file, written by every rank: every mobile particle (id, species, diameter, position,
 //! velocity, spin, the force and torque of the last evaluation, which the next half kick
-//! uses, and its wall histories), every contact history keyed by the pair's ids, the step,
+//! uses, its wall histories, and its order key of the last spatial sort, `engine::order`), every contact history keyed by the pair's ids, the step,
 //! the number of axial samples written, the case text, and the diagnostics' windows in
 //! progress (exact sums, so a restart averages the same bits). The particles and contacts
 //! are written by all ranks together, each its own rows (`output::pario`: MPI-IO, a share of
@@ -30,7 +30,7 @@
 use super::pario::{self, Rows};
 use crate::comm::Comm;
 use crate::diag::windows::AngleSums;
-use crate::engine::neighbor::SavedHistory;
+use crate::engine::neighbor::{SavedContact, SavedHistory};
 use crate::particles::ParticleState;
 use crate::physics::contact::{History, HISTORY_MAX};
 use crate::physics::materials::WALLS;
@@ -478,6 +478,9 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
         pario::write_rows(&f, &g, "id", &ids, 1, rows, true).map_err(on)?;
         drop(ids);
+        let keys: Vec<u64> = p.iter().map(|s| s.key).collect();
+        pario::write_rows(&f, &g, "order_key", &keys, 1, rows, true).map_err(on)?;
+        drop(keys);
         let species: Vec<u8> = p.iter().map(|s| s.species).collect();
         pario::write_rows(&f, &g, "species", &species, 1, rows, true).map_err(on)?;
         drop(species);
@@ -506,11 +509,11 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         let h = &ck.histories;
         let rows = Rows::of(comm, h.len() as u64);
         let c = group("contacts")?;
-        let a: Vec<u64> = h.iter().map(|x| x.0).collect();
+        let a: Vec<u64> = h.iter().map(|x| x.a).collect();
         pario::write_rows(&f, &c, "id_a", &a, 1, rows, true).map_err(on)?;
-        let b: Vec<u64> = h.iter().map(|x| x.1).collect();
+        let b: Vec<u64> = h.iter().map(|x| x.b).collect();
         pario::write_rows(&f, &c, "id_b", &b, 1, rows, true).map_err(on)?;
-        let hist: Vec<f64> = h.iter().flat_map(|x| x.2[..fw].iter().copied()).collect();
+        let hist: Vec<f64> = h.iter().flat_map(|x| x.h[..fw].iter().copied()).collect();
         pario::write_rows(&f, &c, "history", &hist, fw, rows, true).map_err(on)?;
         drop(hist);
         drop(c);
@@ -624,6 +627,14 @@ fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkp
         get_rows(&f, path, name, cols, rows)
     };
     let id: Vec<u64> = get_rows(&f, path, "particles/id", 1, rows)?;
+    // the order keys (`engine::order`); a checkpoint from before the spatial sort has none:
+    // the particles keep the order of their ids until the next sort
+    let key: Vec<u64> = if f.link_exists("particles/order_key") {
+        rows_of(&[("particles/id", 1), ("particles/order_key", 1)])?;
+        get_rows(&f, path, "particles/order_key", 1, rows)?
+    } else {
+        vec![0; id.len()]
+    };
     let species: Vec<u8> = get_rows(&f, path, "particles/species", 1, rows)?;
     let diameter = get("particles/diameter", 1, rows)?;
     let v3 = |name: &str| get(&format!("particles/{name}"), 3, rows);
@@ -646,6 +657,7 @@ fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkp
                 t3(&v, i),
                 t3(&w, i),
             );
+            s.key = key[i];
             s.f = t3(&force, i);
             s.t = t3(&torque, i);
             for (k, h) in s.wall_hist.iter_mut().enumerate() {
@@ -669,7 +681,7 @@ fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkp
         .map(|i| {
             let mut w = History::default();
             w[..fw].copy_from_slice(&h[fw * i..fw * (i + 1)]);
-            (a[i], b[i], w)
+            SavedContact::new(a[i], b[i], w)
         })
         .collect();
     if !f.link_exists("diagnostics") {

@@ -205,6 +205,12 @@ pub fn largest_diameter(s: &crate::case::Species) -> f64 {
 
 /// Halo width and cell size: the largest interaction range plus the skin.
 pub fn reach(case: &Case) -> f64 {
+    range(case) + case.skin()
+}
+
+/// The interaction range of the largest pair of `case` (the largest particles, a rough
+/// wall's among them), without the skin.
+pub fn range(case: &Case) -> f64 {
     // a rough wall's particles take part in pairs too
     let rough = case.drum.rough_wall.as_ref().map_or(0.0, |r| r.diameter);
     let d = case
@@ -212,7 +218,7 @@ pub fn reach(case: &Case) -> f64 {
         .iter()
         .map(largest_diameter)
         .fold(rough, f64::max);
-    ContactLaw::new(case).cutoff(d, d) + case.skin()
+    ContactLaw::new(case).cutoff(d, d)
 }
 
 /// Limits on the time step implied by a case.
