@@ -15,28 +15,14 @@
 # Defaults: 100000 particles, 1 rank, 3 rounds. TUMBLER=path/to/tumbler measures another
 # binary; LOCALITY_WORK keeps the beds and logs in that directory (default: a temporary one).
 set -euo pipefail
-here="$(cd "$(dirname "$0")/.." && pwd)"
 particles="${1:-100000}"
 ranks="${2:-1}"
 reps="${3:-3}"
 steps="${LOCALITY_STEPS:-2000}"
 settle="${LOCALITY_SETTLE:-0.3}"
-bin="${TUMBLER:-$here/target/release/tumbler}"
-case_file="$here/cases/quickstart.toml"
-[ -x "$bin" ] || cargo build --release --manifest-path "$here/Cargo.toml"
-[ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export OMPI_MCA_mpi_yield_when_idle=1
-if [ -n "${LOCALITY_WORK:-}" ]; then
-  work="$LOCALITY_WORK"
-  mkdir -p "$work"
-else
-  work="$(mktemp -d)"
-  trap 'rm -rf "$work"' EXIT
-fi
-cd "$work"
-
-# the quick-start bed holds 2314 particles in 64 length units; 2513.3 steps per rotation
-length=$(awk -v n="$particles" 'BEGIN { printf "%.1f", 64.0 * n / 2314.0 }')
+work_dir="${LOCALITY_WORK:-}"
+source "$(dirname "$0")/quickstart_bed.sh"
+# 2513.3 steps per rotation
 base=(--set drum.length="$length" --set output.progress_every=10.0)
 
 echo "bed: $particles particles, $settle rotations on $ranks ranks (log $work/bed.log)" >&2
