@@ -435,7 +435,7 @@ fn a_step_count_that_does_not_fit_is_refused() {
 
 #[test]
 fn a_huge_initial_state_is_refused_before_it_is_built() {
-    // 1.4e8 lattice sites: 99 GiB on one rank (report::memory_estimate), refused at once by
+    // 1.4e8 lattice sites: 102 GiB on one rank (report::memory_estimate), refused at once by
     // check and run on one rank, nothing allocated; the case itself is fine, for 7 ranks or
     // more
     let on = |file: &str, overrides: &[&str], ranks: usize| -> Option<String> {
@@ -451,7 +451,7 @@ fn a_huge_initial_state_is_refused_before_it_is_built() {
     expect(
         &m,
         &[
-            "init.density: the initial state would hold about 1.361e8 particles, 99 GiB on each of 1 ranks",
+            "init.density: the initial state would hold about 1.361e8 particles, 102 GiB on each of 1 ranks",
             "at most 16 GiB",
             "run it on at least 7 ranks",
         ],

@@ -160,8 +160,28 @@ impl<'c> Sim<'c> {
         }
         sim.step = step;
         sim.turn_drum(sim.walls.omega * step as f64 * sim.dt);
+        sim.rough_wall_keys();
         sim.rebuild_with(saved, true, Reorder::KeysOfSaved);
         Ok(sim)
+    }
+
+    /// Give the rough wall's particles (which checkpoints do not hold: `assemble` makes them)
+    /// the keys of the last sort, at or before this step: where the drum had carried them
+    /// then (at the start of the run, or at the end of a pour, where the drum stood still:
+    /// at angle 0).
+    fn rough_wall_keys(&mut self) {
+        let Some(rw) = self.rough.filter(|_| self.sort_every > 0) else {
+            return;
+        };
+        let last = self.step / self.sort_every * self.sort_every;
+        // the angle `step()` turns the drum to before that sort
+        let angle = self.walls.omega * last as f64 * self.dt;
+        for i in 0..self.p.n_owned {
+            if is_fixed(self.p.species[i]) {
+                let x = rw.place(self.p.id[i], angle, self.walls.omega).0;
+                self.p.key[i] = self.keys.key(x);
+            }
+        }
     }
 
     /// Send each history of `histories` to the ranks that hold its particles: for a mobile

@@ -412,10 +412,10 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), St
 /// the same way, remains the closer estimate once there is one.
 fn short_of_room(path: &Path, rows: [u64; 2], words: usize) -> Option<String> {
     let previous = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    // a particle's row is its full state, a history's its two ids and its `words`
-    // (uncompressed)
-    let words = rows[0] * crate::particles::packed_words(words) as u64
-        + rows[1] * crate::engine::neighbor::record_words(words) as u64;
+    // a particle's row is its full state, a history's its two ids and its `words` (the
+    // file keeps no order keys of a contact's particles), uncompressed
+    let words =
+        rows[0] * crate::particles::packed_words(words) as u64 + rows[1] * (2 + words as u64);
     let estimate = previous.max(8 * words);
     let needed = estimate + estimate / 10 + (64 << 10);
     let dir = match path.parent() {
