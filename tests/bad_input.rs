@@ -646,6 +646,11 @@ fn particle_file(path: &std::path::Path, d: &[f64], x: &[[f64; 3]], v: &[[f64; 3
         .with_data(&vec![0.0; 3 * n])
         .create("angular_velocity")
         .unwrap();
+    // closed here, every handle with it, before the test opens the file again (HDF5 locks
+    // a file while it is open: a lazily released handle made the reading side fail with
+    // "unable to lock file" once)
+    drop(g);
+    f.close().unwrap();
 }
 
 /// A particle file's name, diameters, positions, velocities and the refusal it gets.
