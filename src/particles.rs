@@ -8,7 +8,8 @@ use crate::physics::Materials;
 /// Number of `f64` words of a particle's full state in a message (see [`Particles::pack`])
 /// when each contact keeps `words` history words.
 pub const fn packed_words(words: usize) -> usize {
-    19 + WALLS * words
+    // a ghost's record, the wall histories, force and torque
+    GHOST_WORDS + WALLS * words + 6
 }
 
 /// The most `f64` words of a particle's full state (with the largest history).
@@ -304,13 +305,7 @@ impl Particles {
 
     /// Append particle `i`'s full state to a message buffer ([`Self::packed_words`] words).
     pub fn pack(&self, i: usize, buf: &mut Vec<f64>) {
-        buf.push(self.id[i] as f64);
-        buf.push(self.key[i] as f64);
-        buf.push(self.species[i] as f64);
-        buf.push(self.diameter[i]);
-        buf.extend_from_slice(&self.x[i]);
-        buf.extend_from_slice(&self.v[i]);
-        buf.extend_from_slice(&self.w[i]);
+        self.pack_ghost(i, buf);
         let w = WALLS * self.hist_words;
         buf.extend_from_slice(&self.wall_hist[i * w..(i + 1) * w]);
         buf.extend_from_slice(&self.f[i]);
@@ -355,23 +350,16 @@ pub fn unpack_ghost(rec: &[f64]) -> ParticleState {
 /// per contact.
 pub fn unpack(rec: &[f64], words: usize) -> ParticleState {
     let v3 = |k: usize| [rec[k], rec[k + 1], rec[k + 2]];
-    let mut wall_hist = [[0.0; HISTORY_MAX]; WALLS];
-    for (k, h) in wall_hist.iter_mut().enumerate() {
-        h[..words].copy_from_slice(&rec[13 + words * k..13 + words * (k + 1)]);
+    // the head of the record is a ghost's
+    let mut s = unpack_ghost(&rec[..GHOST_WORDS]);
+    for (k, h) in s.wall_hist.iter_mut().enumerate() {
+        let at = GHOST_WORDS + words * k;
+        h[..words].copy_from_slice(&rec[at..at + words]);
     }
-    let tail = 13 + words * WALLS;
-    ParticleState {
-        id: rec[0] as u64,
-        key: rec[1] as u64,
-        species: rec[2] as u8,
-        diameter: rec[3],
-        x: v3(4),
-        v: v3(7),
-        w: v3(10),
-        wall_hist,
-        f: v3(tail),
-        t: v3(tail + 3),
-    }
+    let tail = GHOST_WORDS + words * WALLS;
+    s.f = v3(tail);
+    s.t = v3(tail + 3);
+    s
 }
 
 #[cfg(test)]
