@@ -148,14 +148,17 @@ pub struct NeighborList {
     cell_items: Vec<u32>,
     cell_start: Vec<u32>,
     cell_of: Vec<u32>,
-    /// Scratch: local indices in order of rank, and one particle's partners.
+    /// Scratch: local indices in order of rank, each particle's place in that order (its
+    /// rank as a 32-bit number: the search compares these), and one particle's partners.
     by_rank: Vec<u32>,
-    partners: Vec<(u128, u32)>,
+    ord: Vec<u32>,
+    partners: Vec<(u32, u32)>,
     /// Scratch, in cell order (beside `cell_items`), what the search reads of a candidate:
-    /// binning position and half its contact distance with its own kind, rank, and flags
+    /// binning position and half its contact distance with its own kind, place in the order
+    /// of rank (`ord`), and flags
     /// (1: owned, 2: fixed to the wall).
     slot_x: Vec<[f64; 4]>,
-    slot_rank: Vec<u128>,
+    slot_rank: Vec<u32>,
     slot_flags: Vec<u8>,
 }
 
@@ -257,9 +260,18 @@ impl NeighborList {
             self.cell_items[fill[c as usize] as usize] = i as u32;
             fill[c as usize] += 1;
         }
+        // the order of rank, and each particle's place in it
+        self.by_rank.clear();
+        self.by_rank.extend(0..n as u32);
+        self.by_rank
+            .sort_unstable_by_key(|&i| rank_of(p.key[i as usize], p.id[i as usize]));
+        self.ord.clear();
+        self.ord.resize(n, 0);
+        for (k, &i) in self.by_rank.iter().enumerate() {
+            self.ord[i as usize] = k as u32;
+        }
         // what the search needs of each candidate, contiguous in cell order
         let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
-        let rank = |i: usize| rank_of(p.key[i], p.id[i]);
         self.slot_x.clear();
         self.slot_rank.clear();
         self.slot_flags.clear();
@@ -267,7 +279,7 @@ impl NeighborList {
             let j = j as usize;
             let x = p.x[j];
             self.slot_x.push([x[0], x[1], x[2] + p.z_image[j], half(j)]);
-            self.slot_rank.push(rank(j));
+            self.slot_rank.push(self.ord[j]);
             self.slot_flags
                 .push((j < p.n_owned) as u8 | (2 * is_fixed(p.species[j]) as u8));
         }
@@ -277,16 +289,13 @@ impl NeighborList {
         // at least one of the two is owned: a pair with a ghost is also computed where the
         // ghost is owned (which may be this rank, for a periodic image of its own particle),
         // with the same arithmetic.
-        self.by_rank.clear();
-        self.by_rank.extend(0..n as u32);
-        self.by_rank.sort_unstable_by_key(|&i| rank(i as usize));
         self.pairs.clear();
         self.cut2.clear();
         for &i in &self.by_rank {
             let i = i as usize;
             let owned_i = i < p.n_owned;
             let fixed_i = is_fixed(p.species[i]);
-            let (rank_i, half_i) = (rank(i), half(i));
+            let (rank_i, half_i) = (self.ord[i], half(i));
             let xi = p.x[i];
             let zi = xi[2] + p.z_image[i];
             let c = [
@@ -369,6 +378,7 @@ impl NeighborList {
             &mut self.cell_start,
             &mut self.cell_of,
             &mut self.by_rank,
+            &mut self.ord,
         ] {
             *v = Vec::new();
         }
