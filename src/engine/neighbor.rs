@@ -155,8 +155,7 @@ pub struct NeighborList {
     partners: Vec<(u32, u32)>,
     /// Scratch, in cell order (beside `cell_items`), what the search reads of a candidate:
     /// binning position and half its contact distance with its own kind, place in the order
-    /// of rank (`ord`), and flags
-    /// (1: owned, 2: fixed to the wall).
+    /// of rank (`ord`), and flags (1: owned, 2: fixed to the wall).
     slot_x: Vec<[f64; 4]>,
     slot_rank: Vec<u32>,
     slot_flags: Vec<u8>,
