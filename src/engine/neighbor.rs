@@ -157,7 +157,7 @@ pub struct NeighborList {
     /// binning position and half its contact distance with its own kind, place in the order
     /// of rank (`ord`), and flags (1: owned, 2: fixed to the wall).
     slot_x: Vec<[f64; 4]>,
-    slot_rank: Vec<u32>,
+    slot_ord: Vec<u32>,
     slot_flags: Vec<u8>,
 }
 
@@ -272,13 +272,13 @@ impl NeighborList {
         // what the search needs of each candidate, contiguous in cell order
         let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
         self.slot_x.clear();
-        self.slot_rank.clear();
+        self.slot_ord.clear();
         self.slot_flags.clear();
         for &j in &self.cell_items {
             let j = j as usize;
             let x = p.x[j];
             self.slot_x.push([x[0], x[1], x[2] + p.z_image[j], half(j)]);
-            self.slot_rank.push(self.ord[j]);
+            self.slot_ord.push(self.ord[j]);
             self.slot_flags
                 .push((j < p.n_owned) as u8 | (2 * is_fixed(p.species[j]) as u8));
         }
@@ -294,7 +294,7 @@ impl NeighborList {
             let i = i as usize;
             let owned_i = i < p.n_owned;
             let fixed_i = is_fixed(p.species[i]);
-            let (rank_i, half_i) = (self.ord[i], half(i));
+            let (ord_i, half_i) = (self.ord[i], half(i));
             let xi = p.x[i];
             let zi = xi[2] + p.z_image[i];
             let c = [
@@ -316,7 +316,7 @@ impl NeighborList {
                         self.partners.resize(m + (e - s), (0, 0));
                     }
                     for s in s..e {
-                        let rank_j = self.slot_rank[s];
+                        let ord_j = self.slot_ord[s];
                         let flags = self.slot_flags[s];
                         let xj = self.slot_x[s];
                         let dx = xi[0] - xj[0];
@@ -329,10 +329,10 @@ impl NeighborList {
                         // higher ranks only; a ghost pairs only with owned particles; wall
                         // particles do not touch each other
                         let keep = close
-                            & (rank_j > rank_i)
+                            & (ord_j > ord_i)
                             & (owned_i | (flags & 1 != 0))
                             & !(fixed_i & (flags & 2 != 0));
-                        self.partners[m] = (rank_j, self.cell_items[s]);
+                        self.partners[m] = (ord_j, self.cell_items[s]);
                         m += keep as usize;
                     }
                 }
@@ -383,7 +383,7 @@ impl NeighborList {
         }
         self.partners = Vec::new();
         self.slot_x = Vec::new();
-        self.slot_rank = Vec::new();
+        self.slot_ord = Vec::new();
         self.slot_flags = Vec::new();
     }
 
