@@ -15,6 +15,7 @@
 //! particles, and are re-attached to the new list by one merge of the two sorted lists
 //! (with a search where the list steps back, see [`NeighborList::save_histories`]).
 
+use crate::engine::forces::Isa;
 use crate::particles::Particles;
 use crate::physics::contact::History;
 use crate::physics::integrate::min_image;
@@ -25,6 +26,33 @@ use crate::physics::{ContactLaw, DrumWalls};
 /// so a particle's `(2 SPAN + 1)^3` cells hold every partner within `reach`, in a smaller
 /// volume than 27 cells of `reach` (about 58 % of it for `SPAN = 2`).
 pub const SPAN: usize = 2;
+
+/// Candidates the neighbour search tests at once (a row of cells is a contiguous run of slots,
+/// tested a block at a time).
+const BLOCK: usize = 8;
+
+/// Which of the [`BLOCK`] slots from `b` are closer to `xi` than their reach plus `skin`
+/// (bit `l` for slot `b + l`). Written as lanes: each is the scalar test, so the same pairs
+/// are found whatever the vector width.
+#[inline(always)]
+fn close_block(slot_x: &[Vec<f64>; 4], b: usize, xi: [f64; 3], half_i: f64, skin: f64) -> u32 {
+    let lane = |k: usize| -> &[f64; BLOCK] {
+        slot_x[k][b..b + BLOCK]
+            .try_into()
+            .expect("the slots are padded by a block")
+    };
+    let (x, y, z, h) = (lane(0), lane(1), lane(2), lane(3));
+    let mut close = 0;
+    for l in 0..BLOCK {
+        let dx = xi[0] - x[l];
+        let dy = xi[1] - y[l];
+        let dz = xi[2] - z[l];
+        // the list's range needs no last-bit care: a pair near it is a skin away from touching
+        let reach = half_i + h[l] + skin;
+        close |= ((dx * dx + dy * dy + dz * dz < reach * reach) as u32) << l;
+    }
+    close
+}
 
 /// A particle's place in the canonical order: its order key, then its id.
 #[inline]
@@ -156,7 +184,9 @@ pub struct NeighborList {
     /// Scratch, in cell order (beside `cell_items`), what the search reads of a candidate:
     /// binning position and half its contact distance with its own kind, place in the order
     /// of rank (`ord`), and flags (1: owned, 2: fixed to the wall).
-    slot_x: Vec<[f64; 4]>,
+    /// (The positions and half distances are stored by coordinate, with [`BLOCK`] slots of
+    /// padding that touch nothing, for the search's blocks of [`BLOCK`] candidates.)
+    slot_x: [Vec<f64>; 4],
     slot_ord: Vec<u32>,
     slot_flags: Vec<u8>,
 }
@@ -232,6 +262,46 @@ impl NeighborList {
     /// Rebuild the list from the owned and ghost particles of `p`. A pair is kept when the
     /// centres are closer than its interaction range plus `skin`.
     pub fn build(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
+        self.build_with(Isa::detect(), p, grid, skin, law)
+    }
+
+    /// [`Self::build`] compiled for a chosen instruction set (at most this CPU's; every
+    /// choice lists the same pairs in the same order).
+    pub fn build_with(
+        &mut self,
+        isa: Isa,
+        p: &Particles,
+        grid: &Grid,
+        skin: f64,
+        law: &ContactLaw,
+    ) {
+        match isa.min(Isa::of_cpu()) {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: this CPU has AVX-512 (`Isa::of_cpu`).
+            Isa::Avx512 => unsafe { self.build_avx512(p, grid, skin, law) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: this CPU has AVX2 (`Isa::of_cpu`).
+            Isa::Avx2 => unsafe { self.build_avx2(p, grid, skin, law) },
+            _ => self.build_any(p, grid, skin, law),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn build_avx512(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
+        self.build_any(p, grid, skin, law)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn build_avx2(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
+        self.build_any(p, grid, skin, law)
+    }
+
+    /// The build itself, inlined into each instruction set's copy (the same pairs from every
+    /// copy: the distance tests are exact comparisons of the same arithmetic).
+    #[inline(always)]
+    fn build_any(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
         let n = p.len();
         let ncell = grid.n[0] * grid.n[1] * grid.n[2];
         self.cell_of.clear();
@@ -271,16 +341,25 @@ impl NeighborList {
         }
         // what the search needs of each candidate, contiguous in cell order
         let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
-        self.slot_x.clear();
+        for v in &mut self.slot_x {
+            v.clear();
+        }
         self.slot_ord.clear();
         self.slot_flags.clear();
         for &j in &self.cell_items {
             let j = j as usize;
             let x = p.x[j];
-            self.slot_x.push([x[0], x[1], x[2] + p.z_image[j], half(j)]);
+            let slot = [x[0], x[1], x[2] + p.z_image[j], half(j)];
+            for (v, c) in self.slot_x.iter_mut().zip(slot) {
+                v.push(c);
+            }
             self.slot_ord.push(self.ord[j]);
             self.slot_flags
                 .push((j < p.n_owned) as u8 | (2 * is_fixed(p.species[j]) as u8));
+        }
+        // padding for the last block: NaN is close to nothing
+        for v in &mut self.slot_x {
+            v.resize(v.len() + BLOCK, f64::NAN);
         }
 
         // Pairs are generated in canonical order: particles (owned and ghosts) in order of
@@ -315,25 +394,27 @@ impl NeighborList {
                     if self.partners.len() < m + (e - s) {
                         self.partners.resize(m + (e - s), (0, 0));
                     }
-                    for s in s..e {
-                        let ord_j = self.slot_ord[s];
-                        let flags = self.slot_flags[s];
-                        let xj = self.slot_x[s];
-                        let dx = xi[0] - xj[0];
-                        let dy = xi[1] - xj[1];
-                        let dz = zi - xj[2];
-                        // the list's range needs no last-bit care: a pair near it is a
-                        // skin away from touching
-                        let reach = half_i + xj[3] + skin;
-                        let close = dx * dx + dy * dy + dz * dz < reach * reach;
-                        // higher ranks only; a ghost pairs only with owned particles; wall
-                        // particles do not touch each other
-                        let keep = close
-                            & (ord_j > ord_i)
-                            & (owned_i | (flags & 1 != 0))
-                            & !(fixed_i & (flags & 2 != 0));
-                        self.partners[m] = (ord_j, self.cell_items[s]);
-                        m += keep as usize;
+                    // the row's slots a block at a time: the distance test in lanes, then
+                    // the few close ones one by one
+                    for b in (s..e).step_by(BLOCK) {
+                        let mut close =
+                            close_block(&self.slot_x, b, [xi[0], xi[1], zi], half_i, skin);
+                        if e - b < BLOCK {
+                            close &= (1 << (e - b)) - 1;
+                        }
+                        while close != 0 {
+                            let s = b + close.trailing_zeros() as usize;
+                            close &= close - 1;
+                            let ord_j = self.slot_ord[s];
+                            let flags = self.slot_flags[s];
+                            // higher ranks only; a ghost pairs only with owned particles; wall
+                            // particles do not touch each other
+                            let keep = (ord_j > ord_i)
+                                & (owned_i | (flags & 1 != 0))
+                                & !(fixed_i & (flags & 2 != 0));
+                            self.partners[m] = (ord_j, self.cell_items[s]);
+                            m += keep as usize;
+                        }
                     }
                 }
             }
@@ -382,7 +463,7 @@ impl NeighborList {
             *v = Vec::new();
         }
         self.partners = Vec::new();
-        self.slot_x = Vec::new();
+        self.slot_x = Default::default();
         self.slot_ord = Vec::new();
         self.slot_flags = Vec::new();
     }
