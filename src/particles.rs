@@ -323,14 +323,17 @@ impl Particles {
         buf.extend_from_slice(&self.w[i]);
     }
 
-    /// Append particle `i`'s moving state (position, velocity, spin) to a message buffer.
-    pub fn pack_update(&self, i: usize, buf: &mut Vec<f64>) {
-        buf.extend_from_slice(&self.x[i]);
-        buf.extend_from_slice(&self.v[i]);
-        buf.extend_from_slice(&self.w[i]);
+    /// Write particle `i`'s moving state (position, velocity, spin) into a ghost-update
+    /// record of a message.
+    #[inline]
+    pub fn pack_update(&self, i: usize, rec: &mut [f64]) {
+        rec[0..3].copy_from_slice(&self.x[i]);
+        rec[3..6].copy_from_slice(&self.v[i]);
+        rec[6..9].copy_from_slice(&self.w[i]);
     }
 
     /// Overwrite particle `i`'s moving state from a ghost-update record.
+    #[inline]
     pub fn unpack_update(&mut self, i: usize, rec: &[f64]) {
         self.x[i].copy_from_slice(&rec[0..3]);
         self.v[i].copy_from_slice(&rec[3..6]);

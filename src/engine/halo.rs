@@ -241,13 +241,14 @@ pub fn update_ghosts(
         from_down,
         from_up,
     } = bufs;
-    to_down.clear();
-    to_up.clear();
-    for &i in &halo.send_down {
-        p.pack_update(i, to_down);
-    }
-    for &i in &halo.send_up {
-        p.pack_update(i, to_up);
+    for (to, send) in [
+        (&mut *to_down, &halo.send_down),
+        (&mut *to_up, &halo.send_up),
+    ] {
+        to.resize(send.len() * UPDATE_WORDS, 0.0);
+        for (rec, &i) in to.chunks_exact_mut(UPDATE_WORDS).zip(send) {
+            p.pack_update(i, rec);
+        }
     }
     from_down.resize(halo.n_from_down * UPDATE_WORDS, 0.0);
     from_up.resize(halo.n_from_up * UPDATE_WORDS, 0.0);
