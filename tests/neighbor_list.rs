@@ -3,6 +3,9 @@
 //! every instruction set this CPU has: owned particles and ghosts, particles fixed to the
 //! wall, periodic images, mixed sizes, shared order keys, fine and coarse cells.
 
+mod common;
+
+use common::case_with;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumbler::engine::forces::Isa;
@@ -10,11 +13,6 @@ use tumbler::engine::neighbor::{rank_of, Grid, NeighborList, SPAN};
 use tumbler::particles::{ParticleState, Particles};
 use tumbler::physics::rough_wall::{is_fixed, FIXED_SPECIES};
 use tumbler::physics::{ContactLaw, Materials};
-
-fn case(name: &str) -> tumbler::case::Case {
-    let path = format!("{}/tests/cases/{name}", env!("CARGO_MANIFEST_DIR"));
-    tumbler::case::parse_case(&std::fs::read_to_string(path).unwrap(), name).unwrap()
-}
 
 /// `owned` particles in a box of side `side`, then `ghosts` more beyond them (some shifted
 /// by a periodic image of `side` along z), diameters 0.5-2 `d`, one in 13 fixed to the wall,
@@ -126,7 +124,7 @@ fn check(law: &ContactLaw, mat: &Materials, d: f64, seed: u64) {
 
 #[test]
 fn build_lists_all_close_pairs_in_canonical_order() {
-    let c = case("capped.toml");
+    let c = case_with("capped.toml", &[]);
     let (mat, law) = (Materials::new(&c), ContactLaw::new(&c));
     let d = c.species[0].diameter;
     for seed in 1..4 {
@@ -138,7 +136,7 @@ fn build_lists_all_close_pairs_in_canonical_order() {
 fn build_with_a_longer_range_law() {
     // Rapaport's law reaches beyond contact (2^(1/6) of the diameter): the search must use
     // its cutoff
-    let c = case("periodic.toml");
+    let c = case_with("periodic.toml", &[]);
     let (mat, law) = (Materials::new(&c), ContactLaw::new(&c));
     let d = c.species[0].diameter;
     assert!(
