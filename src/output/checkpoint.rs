@@ -340,8 +340,8 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 /// the particles and histories and, in `ck.diag`, its block of the window sums): written
 /// whole under [`tmp_path`], synced, then renamed over `path`. On any error, on any rank,
 /// every rank returns it, the temporary file is removed and `path` is left as it was. The
-/// particles and histories of `ck` are freed once written, before rank 0 adds the rest of
-/// the diagnostics: the checkpoint's peak does not hold both.
+/// particles of `ck` are freed once written, then its histories, before the window sums are
+/// written (their largest transient): the checkpoint's peak holds one of the three only.
 pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), String> {
     let tmp = tmp_path(path);
     let root = comm.rank() == 0;
@@ -461,8 +461,10 @@ fn no_room(tmp: &Path) -> Option<String> {
         .map(|e| format!("the disk has less than {} MB free: {e}", PROBE_BYTES >> 20))
 }
 
-/// Every rank's rows of the particles and contacts, into a new `tmp` (collective).
-fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(), String> {
+/// Every rank's rows of the particles and contacts, and its block of the window sums, into
+/// a new `tmp` (collective). The particles and then the contacts of `ck` are freed as soon
+/// as they are written, before the sums, so that the write's peak holds one of them only.
+fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &mut Checkpoint) -> Result<(), String> {
     let on = |e: String| format!("checkpoint {}: {e}", tmp.display());
     let f = pario::together(comm, pario::create(comm, tmp, true)).map_err(on)?;
     {
@@ -506,6 +508,7 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         put("wall_history", &wall, WALLS * fw)?;
         drop(wall);
         drop(g);
+        ck.particles = Vec::new();
         let h = &ck.histories;
         let rows = Rows::of(comm, h.len() as u64);
         let c = group("contacts")?;
@@ -517,6 +520,7 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &Checkpoint) -> Result<(),
         pario::write_rows(&f, &c, "history", &hist, fw, rows, true).map_err(on)?;
         drop(hist);
         drop(c);
+        ck.histories = SavedHistory::new();
         let d = group("diagnostics")?;
         write_sums_of_all(&f, &d, &ck.diag).map_err(on)?;
     }
