@@ -1,6 +1,9 @@
 //! Struct-of-arrays particle storage. The first `n_owned` entries are the particles this rank
 //! owns; the rest are ghost copies of neighbours' particles (rebuilt with the halo).
 
+pub mod records;
+pub use records::{Field, Records};
+
 use crate::physics::contact::{History, HISTORY_MAX};
 use crate::physics::materials::WALLS;
 use crate::physics::Materials;

@@ -12,7 +12,7 @@ use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
 use crate::case::Case;
 use crate::comm::Comm;
-use crate::particles::{ParticleState, Particles};
+use crate::particles::{ParticleState, Particles, Records};
 use crate::physics::integrate::{drift, half_kick, min_image};
 use crate::physics::rough_wall::{is_fixed, RoughWall};
 use crate::physics::{law, ContactLaw, DrumWalls, Materials};
@@ -149,14 +149,14 @@ impl<'c> Sim<'c> {
     pub fn resume(
         case: &Case,
         comm: &'c dyn Comm,
-        particles: &[ParticleState],
+        particles: &Records,
         histories: SavedHistory,
         step: u64,
     ) -> Result<Self, DecompositionError> {
         let mut sim = Self::assemble(case, comm, &[])?;
         let saved = sim.route_to_holders(particles, histories);
-        for s in particles {
-            sim.p.push_owned(s, &sim.mat);
+        for s in particles.states() {
+            sim.p.push_owned(&s, &sim.mat);
         }
         sim.step = step;
         sim.turn_drum(sim.walls.omega * step as f64 * sim.dt);
@@ -188,15 +188,11 @@ impl<'c> Sim<'c> {
     /// particle, the rank whose share of `particles` (ranks in increasing order of id) has its
     /// id; for a rough wall's, the owner of its `z`, where `assemble` put it. Returns the
     /// histories this rank receives, sorted by ids (their keys are not known yet).
-    fn route_to_holders(
-        &self,
-        particles: &[ParticleState],
-        histories: SavedHistory,
-    ) -> SavedHistory {
+    fn route_to_holders(&self, particles: &Records, histories: SavedHistory) -> SavedHistory {
         let (me, size) = (self.comm.rank(), self.comm.size());
         let mut first = vec![0u64; 2 * size];
-        if let Some(s) = particles.first() {
-            first[2 * me] = s.id;
+        if !particles.is_empty() {
+            first[2 * me] = particles.id(0);
             first[2 * me + 1] = 1;
         }
         self.comm.sum_u64_all(&mut first);
@@ -826,17 +822,14 @@ impl<'c> Sim<'c> {
     /// This rank's share of every mobile particle's state, sorted by id, the ranks' shares
     /// following in increasing order of id (about N/P each): what each rank writes of a
     /// file's particles (all ranks call this together).
-    pub fn particles_by_id(&self) -> Vec<ParticleState> {
+    pub fn particles_by_id(&self) -> Records {
         self.particles_and_histories(false).0
     }
 
     /// This rank's share of the particles (as [`Sim::particles_by_id`]) and of the contact
     /// histories, sorted by ids, each once (a contact across a slab face is held, identically,
     /// by both ranks), a contact in the share of its lower id (all ranks call this together).
-    pub fn particles_and_histories(
-        &self,
-        with_histories: bool,
-    ) -> (Vec<ParticleState>, SavedHistory) {
+    pub fn particles_and_histories(&self, with_histories: bool) -> (Records, SavedHistory) {
         let shares = self.id_shares();
         let words = self.p.packed_words();
         let hist_words = self.p.hist_words;
@@ -845,17 +838,21 @@ impl<'c> Sim<'c> {
         for i in mobile() {
             self.p.pack(i, &mut buf);
         }
-        let mine = self.to_shares(buf, words, |r| r[0] as u64, &shares);
-        // exact size, each message freed once unpacked
-        let mut states = Vec::with_capacity(mine.iter().map(|m| m.len() / words).sum());
+        let mut mine = self.to_shares(buf, words, |r| r[0] as u64, &shares);
+        // kept as the records received: the largest message grows (a mapped block, moved
+        // without a copy) by the others, each freed once appended
+        let total = mine.iter().map(Vec::len).sum::<usize>();
+        let largest = (0..mine.len()).max_by_key(|&r| mine[r].len()).unwrap_or(0);
+        let mut data = mine
+            .get_mut(largest)
+            .map(std::mem::take)
+            .unwrap_or_default();
+        data.reserve_exact(total - data.len());
         for m in mine {
-            states.extend(
-                m.chunks_exact(words)
-                    .map(|r| crate::particles::unpack(r, hist_words)),
-            );
+            data.extend_from_slice(&m);
         }
-        // ids are unique: an unstable sort gives the same order, in place
-        states.sort_unstable_by_key(|s| s.id);
+        let mut states = Records::new(hist_words, data);
+        states.sort_by_id();
         if !with_histories {
             return (states, Vec::new());
         }

@@ -31,7 +31,7 @@ use super::pario::{self, Rows};
 use crate::comm::Comm;
 use crate::diag::windows::AngleSums;
 use crate::engine::neighbor::{SavedContact, SavedHistory};
-use crate::particles::ParticleState;
+use crate::particles::{Field, Records};
 use crate::physics::contact::{History, HISTORY_MAX};
 use crate::physics::materials::WALLS;
 use hdf5::types::VarLenUnicode;
@@ -44,6 +44,16 @@ use std::str::FromStr;
 /// that a law without histories writes the same layout as a tangential spring.
 pub const FILE_WORDS_MIN: usize = 3;
 
+/// The particles' `f64` columns besides the wall histories, as they are named in the file.
+const COLUMNS_F64: [(&str, Field); 6] = [
+    ("diameter", Field::Diameter),
+    ("position", Field::Position),
+    ("velocity", Field::Velocity),
+    ("angular_velocity", Field::AngularVelocity),
+    ("force", Field::Force),
+    ("torque", Field::Torque),
+];
+
 /// The state a run continues from.
 #[derive(Debug, Clone)]
 pub struct Checkpoint {
@@ -55,7 +65,7 @@ pub struct Checkpoint {
     pub samples: u64,
     /// Mobile particles, sorted by id: this rank's share (being written, or read by
     /// [`read_share`]), the ranks' shares in increasing order of id.
-    pub particles: Vec<ParticleState>,
+    pub particles: Records,
     /// Contact histories, sorted by ids: this rank's share, as the particles.
     pub histories: SavedHistory,
     /// History words per contact, wall contacts included (the law's `history_words`; when
@@ -362,7 +372,7 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), St
         ));
     }
     let rows_written = write_rows_of_all(comm, &tmp, ck);
-    ck.particles = Vec::new();
+    ck.particles = Records::default();
     ck.histories = SavedHistory::new();
     let written = rows_written.and_then(|()| {
         let r = if root {
@@ -477,38 +487,24 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &mut Checkpoint) -> Result
                 .map(drop)
                 .map_err(on)
         };
-        let ids: Vec<u64> = p.iter().map(|s| s.id).collect();
+        let ids: Vec<u64> = p.column_as(Field::Id, |x| x as u64);
         pario::write_rows(&f, &g, "id", &ids, 1, rows, true).map_err(on)?;
         drop(ids);
-        let keys: Vec<u64> = p.iter().map(|s| s.key).collect();
+        let keys: Vec<u64> = p.column_as(Field::Key, |x| x as u64);
         pario::write_rows(&f, &g, "order_key", &keys, 1, rows, true).map_err(on)?;
         drop(keys);
-        let species: Vec<u8> = p.iter().map(|s| s.species).collect();
+        let species: Vec<u8> = p.column_as(Field::Species, |x| x as u8);
         pario::write_rows(&f, &g, "species", &species, 1, rows, true).map_err(on)?;
         drop(species);
-        let diameter: Vec<f64> = p.iter().map(|s| s.diameter).collect();
-        put("diameter", &diameter, 1)?;
-        drop(diameter);
-        type Get = fn(&ParticleState) -> [f64; 3];
-        for (name, get) in [
-            ("position", (|s| s.x) as Get),
-            ("velocity", |s| s.v),
-            ("angular_velocity", |s| s.w),
-            ("force", |s| s.f),
-            ("torque", |s| s.t),
-        ] {
-            let rows: Vec<f64> = p.iter().flat_map(get).collect();
-            put(name, &rows, 3)?;
+        for (name, field) in COLUMNS_F64 {
+            put(name, &p.column(field), p.width(field))?;
         }
         let fw = ck.history_words.max(FILE_WORDS_MIN);
-        let wall: Vec<f64> = p
-            .iter()
-            .flat_map(|s| s.wall_hist.iter().flat_map(|h| h[..fw].iter().copied()))
-            .collect();
+        let wall = p.wall_history(fw);
         put("wall_history", &wall, WALLS * fw)?;
         drop(wall);
         drop(g);
-        ck.particles = Vec::new();
+        ck.particles = Records::default();
         let h = &ck.histories;
         let rows = Rows::of(comm, h.len() as u64);
         let c = group("contacts")?;
@@ -630,48 +626,49 @@ fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkp
     let get = |name: &str, cols: usize, rows: Rows| -> Result<Vec<f64>, String> {
         get_rows(&f, path, name, cols, rows)
     };
+    // the rows of this share as records, filled one column at a time
     let id: Vec<u64> = get_rows(&f, path, "particles/id", 1, rows)?;
+    if let Some(bad) = id
+        .iter()
+        .find(|&&i| i >= crate::physics::rough_wall::FIRST_ID)
+    {
+        return Err(format!(
+            "checkpoint {}: particles/id: id {bad} is out of range (a run's ids are below 2^40); the file is not a tumbler checkpoint or is damaged",
+            path.display()
+        ));
+    }
+    let mut particles = Records::zeros(id.len(), fw);
+    let filled = |r: Result<(), String>, name: &str| {
+        r.map_err(|x| format!("checkpoint {}: particles/{name}: {x}", path.display()))
+    };
+    filled(particles.set_column(Field::Id, &id, |x| x as f64), "id")?;
+    drop(id);
     // the order keys (`engine::order`); a checkpoint from before the spatial sort has none:
     // the particles keep the order of their ids until the next sort
-    let key: Vec<u64> = if f.link_exists("particles/order_key") {
+    if f.link_exists("particles/order_key") {
         rows_of(&[("particles/id", 1), ("particles/order_key", 1)])?;
-        get_rows(&f, path, "particles/order_key", 1, rows)?
-    } else {
-        vec![0; id.len()]
-    };
+        let key: Vec<u64> = get_rows(&f, path, "particles/order_key", 1, rows)?;
+        filled(
+            particles.set_column(Field::Key, &key, |x| x as f64),
+            "order_key",
+        )?;
+    }
     let species: Vec<u8> = get_rows(&f, path, "particles/species", 1, rows)?;
-    let diameter = get("particles/diameter", 1, rows)?;
-    let v3 = |name: &str| get(&format!("particles/{name}"), 3, rows);
-    let (x, v, w, force, torque) = (
-        v3("position")?,
-        v3("velocity")?,
-        v3("angular_velocity")?,
-        v3("force")?,
-        v3("torque")?,
-    );
+    filled(
+        particles.set_column(Field::Species, &species, f64::from),
+        "species",
+    )?;
+    drop(species);
+    for (name, field) in COLUMNS_F64 {
+        let v = get(&format!("particles/{name}"), particles.width(field), rows)?;
+        filled(particles.set_column(field, &v, |x| x), name)?;
+    }
     let wall = get("particles/wall_history", WALLS * fw, rows)?;
-    let t3 = |a: &[f64], i: usize| [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
-    let particles = (0..id.len())
-        .map(|i| {
-            let mut s = ParticleState::new(
-                id[i],
-                species[i],
-                diameter[i],
-                t3(&x, i),
-                t3(&v, i),
-                t3(&w, i),
-            );
-            s.key = key[i];
-            s.f = t3(&force, i);
-            s.t = t3(&torque, i);
-            for (k, h) in s.wall_hist.iter_mut().enumerate() {
-                let at = (WALLS * i + k) * fw;
-                h[..fw].copy_from_slice(&wall[at..at + fw]);
-            }
-            s
-        })
-        .collect();
-    drop((x, v, w, force, torque, wall));
+    filled(
+        particles.set_column(Field::WallHistory, &wall, |x| x),
+        "wall_history",
+    )?;
+    drop(wall);
     let nh = rows_of(&[
         ("contacts/id_a", 1),
         ("contacts/id_b", 1),

@@ -5,7 +5,6 @@ use super::series::{self, str_attr};
 use crate::diag::fields::FieldWindow;
 use crate::diag::{BandRule, SliceRecord};
 use crate::engine::sim::BalanceCheck;
-use crate::particles::ParticleState;
 use hdf5::types::VarLenUnicode;
 use hdf5::{File, Group};
 use std::str::FromStr;
@@ -596,7 +595,7 @@ pub fn write_snapshot(
     f: &super::pario::ParFile,
     step: u64,
     rotations: f64,
-    states: &[ParticleState],
+    states: &crate::particles::Records,
 ) -> Result<(), String> {
     use super::pario::together;
     let file = &f.file;

@@ -25,7 +25,7 @@ use super::pario::{self, ParFile, Rows};
 use super::series::{self, describe};
 use crate::comm::Comm;
 use crate::diag::AxialSample;
-use crate::particles::ParticleState;
+use crate::particles::{Field, Records};
 use hdf5::types::VarLenUnicode;
 use ndarray::Array1;
 use std::path::{Path, PathBuf};
@@ -335,13 +335,13 @@ pub fn write_states(
     comm: &dyn Comm,
     f: &ParFile,
     g: &hdf5::Group,
-    states: &[ParticleState],
+    states: &Records,
 ) -> Result<(), String> {
     let rows = Rows::of(comm, states.len() as u64);
     let described = |ds: hdf5::Dataset, name: &str, units: &str, def: &str| {
         pario::together(comm, describe(&ds, units, def)).map_err(|e| format!("{name}: {e}"))
     };
-    let id: Vec<u64> = states.iter().map(|s| s.id).collect();
+    let id: Vec<u64> = states.column_as(Field::Id, |x| x as u64);
     let ds = pario::write_rows(f, g, "id", &id, 1, rows, false)?;
     drop(id);
     described(
@@ -350,30 +350,35 @@ pub fn write_states(
         "-",
         "particle id, stable for the whole run (rows sorted by it)",
     )?;
-    let species: Vec<u8> = states.iter().map(|s| s.species).collect();
+    let species: Vec<u8> = states.column_as(Field::Species, |x| x as u8);
     let ds = pario::write_rows(f, g, "species", &species, 1, rows, false)?;
     drop(species);
     described(ds, "species", "-", "species index, in case order")?;
-    let diameter: Vec<f64> = states.iter().map(|s| s.diameter).collect();
+    let diameter = states.column(Field::Diameter);
     let ds = pario::write_rows(f, g, "diameter", &diameter, 1, rows, false)?;
     drop(diameter);
     described(ds, "diameter", LENGTH, "particle diameter")?;
-    for (name, get, units, def) in [
+    for (name, field, units, def) in [
         (
             "position",
-            (|s| s.x) as fn(&ParticleState) -> [f64; 3],
+            Field::Position,
             LENGTH,
             "centre, lab frame (z wrapped into the drum at periodic ends)",
         ),
-        ("velocity", |s| s.v, "length/time", "velocity, lab frame"),
+        (
+            "velocity",
+            Field::Velocity,
+            "length/time",
+            "velocity, lab frame",
+        ),
         (
             "angular_velocity",
-            |s| s.w,
+            Field::AngularVelocity,
             "1/time",
             "angular velocity, lab frame",
         ),
     ] {
-        let v: Vec<f64> = states.iter().flat_map(get).collect();
+        let v = states.column(field);
         let ds = pario::write_rows(f, g, name, &v, 3, rows, false)?;
         drop(v);
         described(ds, name, units, def)?;
@@ -387,7 +392,7 @@ pub fn write_particles(
     comm: &dyn Comm,
     output: &Path,
     file: &mut Option<RunFile>,
-    states: &[ParticleState],
+    states: &Records,
 ) -> Result<(), String> {
     write_together(comm, output, file, |f| {
         let g = pario::together(comm, f.file.create_group("particles"))?;
