@@ -525,6 +525,17 @@ impl NeighborList {
         saved
     }
 
+    /// Number of pairs with a history ([`NeighborList::save_histories`] saves them).
+    pub fn history_count(&self) -> usize {
+        if self.words == 0 {
+            return 0;
+        }
+        self.hist
+            .chunks_exact(self.words)
+            .filter(|h| h.iter().any(|&x| x != 0.0))
+            .count()
+    }
+
     /// Give each pair of a freshly built list its saved history (`saved` in the list's
     /// order, each contact once); saved contacts without a pair here are dropped.
     pub fn attach_histories(&mut self, p: &Particles, saved: &SavedHistory) {

@@ -787,35 +787,28 @@ impl<'c> Sim<'c> {
         (width, owner)
     }
 
-    /// Send every record (`words` values each, its key from `key`) to the rank of its id's
-    /// share (`id_shares`); what this rank receives, one message per rank. The records are
-    /// consumed, and each message is packed at its exact size (counted first), so that the
-    /// exchange holds no spare capacity.
-    fn to_shares(
+    /// Send every item of `items` (`words` values each, written by `pack`) to the rank of
+    /// its id's share (`id_shares`); what this rank receives, one message per rank. The
+    /// items are counted first and packed straight into messages of their exact size, so
+    /// that the exchange holds each record once on the sending side (and this rank's own
+    /// message is handed back without a copy).
+    fn to_shares<T: Copy>(
         &self,
-        records: Vec<f64>,
+        items: impl Iterator<Item = T> + Clone,
         words: usize,
-        key: impl Fn(&[f64]) -> u64,
-        shares: &(u64, Vec<usize>),
+        id: impl Fn(T) -> u64,
+        pack: impl Fn(T, &mut Vec<f64>),
     ) -> Vec<Vec<f64>> {
-        let (width, owner) = shares;
-        let rank_of = |r: &[f64]| owner[((key(r) / width) as usize).min(owner.len() - 1)];
+        let (width, owner) = self.id_shares();
+        let rank_of = |x: T| owner[((id(x) / width) as usize).min(owner.len() - 1)];
         let mut counts = vec![0usize; self.comm.size()];
-        for r in records.chunks_exact(words) {
-            counts[rank_of(r)] += words;
-        }
-        let size = counts.len();
-        if let Some(r) = counts.iter().position(|&c| c == records.len()) {
-            // all for one rank (always so on one rank): sent as they are
-            let mut to = vec![Vec::new(); size];
-            to[r] = records;
-            return self.comm.all_to_all(to);
+        for x in items.clone() {
+            counts[rank_of(x)] += words;
         }
         let mut to: Vec<Vec<f64>> = counts.iter().map(|&c| Vec::with_capacity(c)).collect();
-        for r in records.chunks_exact(words) {
-            to[rank_of(r)].extend_from_slice(r);
+        for x in items {
+            pack(x, &mut to[rank_of(x)]);
         }
-        drop(records);
         self.comm.all_to_all(to)
     }
 
@@ -823,22 +816,9 @@ impl<'c> Sim<'c> {
     /// following in increasing order of id (about N/P each): what each rank writes of a
     /// file's particles (all ranks call this together).
     pub fn particles_by_id(&self) -> Records {
-        self.particles_and_histories(false).0
-    }
-
-    /// This rank's share of the particles (as [`Sim::particles_by_id`]) and of the contact
-    /// histories, sorted by ids, each once (a contact across a slab face is held, identically,
-    /// by both ranks), a contact in the share of its lower id (all ranks call this together).
-    pub fn particles_and_histories(&self, with_histories: bool) -> (Records, SavedHistory) {
-        let shares = self.id_shares();
         let words = self.p.packed_words();
-        let hist_words = self.p.hist_words;
-        let mobile = || (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
-        let mut buf = Vec::with_capacity(mobile().count() * words);
-        for i in mobile() {
-            self.p.pack(i, &mut buf);
-        }
-        let mut mine = self.to_shares(buf, words, |r| r[0] as u64, &shares);
+        let mobile = (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
+        let mut mine = self.to_shares(mobile, words, |i| self.p.id[i], |i, m| self.p.pack(i, m));
         // kept as the records received: the largest message grows (a mapped block, moved
         // without a copy) by the others, each freed once appended
         let total = mine.iter().map(Vec::len).sum::<usize>();
@@ -851,26 +831,45 @@ impl<'c> Sim<'c> {
         for m in mine {
             data.extend_from_slice(&m);
         }
-        let mut states = Records::new(hist_words, data);
+        let mut states = Records::new(self.p.hist_words, data);
         states.sort_by_id();
-        if !with_histories {
-            return (states, Vec::new());
-        }
+        states
+    }
+
+    /// This rank's share of the contact histories, sorted by ids, each once (a contact
+    /// across a slab face is held, identically, by both ranks), a contact in the share of
+    /// its lower id, the shares as [`Sim::particles_by_id`]'s (all ranks call this
+    /// together). Empty for a law without histories.
+    pub fn histories_by_ids(&self) -> SavedHistory {
+        let hist_words = self.p.hist_words;
         let rec = record_words(hist_words);
         let saved = self.saved_histories();
-        let mut buf = Vec::with_capacity(saved.len() * rec);
-        for h in &saved {
-            push_record(&mut buf, h, hist_words);
-        }
+        let mine = self.to_shares(saved.iter(), rec, |h| h.a, |h, m| {
+            push_record(m, h, hist_words)
+        });
         drop(saved);
-        let mine = self.to_shares(buf, rec, |r| r[0] as u64, &shares);
         let mut out: SavedHistory = Vec::with_capacity(mine.iter().map(|m| m.len() / rec).sum());
         for m in mine {
             out.extend(m.chunks_exact(rec).map(|r| read_record(r, hist_words)));
         }
         out.sort_unstable_by_key(SavedContact::ids);
         out.dedup_by_key(|x| x.ids());
-        (states, out)
+        out
+    }
+
+    /// This rank's particles that a file holds (the mobile ones) and its contacts with a
+    /// history: upper bounds of its rows of a checkpoint (a contact across a slab face is
+    /// counted by both ranks).
+    pub fn checkpoint_rows(&self) -> [u64; 2] {
+        let mobile = (0..self.p.n_owned)
+            .filter(|&i| !is_fixed(self.p.species[i]))
+            .count();
+        let contacts = if self.law.has_history() {
+            self.nl.history_count()
+        } else {
+            0
+        };
+        [mobile as u64, contacts as u64]
     }
 }
 

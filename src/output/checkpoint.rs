@@ -7,7 +7,8 @@
 //! the number of axial samples written, the case text, and the diagnostics' windows in
 //! progress (exact sums, so a restart averages the same bits). The particles and contacts
 //! are written by all ranks together, each its own rows (`output::pario`: MPI-IO, a share of
-//! about N/P rows of the id order per rank, [`crate::engine::Sim::particles_and_histories`]);
+//! about N/P rows of the id order per rank, [`crate::engine::Sim::particles_by_id`] and
+//! [`crate::engine::Sim::histories_by_ids`], gathered one after the other as they are written);
 //! so are the window sums in progress, each rank its own block of them ([`SavedSums`],
 //! `pario::write_blocks`); rank 0 then adds the attributes and the rest of the diagnostics
 //! (small). It is written as `NAME.tmp`, flushed to disk and renamed over `NAME` by rank 0
@@ -53,6 +54,31 @@ const COLUMNS_F64: [(&str, Field); 6] = [
     ("force", Field::Force),
     ("torque", Field::Torque),
 ];
+
+/// Where a checkpoint's rows come from when it is written: each rank's share of the id
+/// order, gathered when the writer reaches them (every rank calls each method together),
+/// one part at a time, so that the write holds either the particles or the contacts.
+pub trait Gather {
+    /// This rank's particles and contacts, at most (for the check of the disk's room).
+    fn counts(&self) -> [u64; 2];
+    /// This rank's share of the particles, sorted by id.
+    fn particles(&mut self) -> Records;
+    /// This rank's share of the contacts, sorted by ids.
+    fn histories(&mut self) -> SavedHistory;
+}
+
+/// A checkpoint's own rows (as read, or made by hand) written again.
+impl Gather for Checkpoint {
+    fn counts(&self) -> [u64; 2] {
+        [self.particles.len() as u64, self.histories.len() as u64]
+    }
+    fn particles(&mut self) -> Records {
+        std::mem::take(&mut self.particles)
+    }
+    fn histories(&mut self) -> SavedHistory {
+        std::mem::take(&mut self.histories)
+    }
+}
 
 /// The state a run continues from.
 #[derive(Debug, Clone)]
@@ -350,14 +376,20 @@ pub fn tmp_path(path: &Path) -> PathBuf {
 /// the particles and histories and, in `ck.diag`, its block of the window sums): written
 /// whole under [`tmp_path`], synced, then renamed over `path`. On any error, on any rank,
 /// every rank returns it, the temporary file is removed and `path` is left as it was. The
-/// particles of `ck` are freed once written, then its histories, before the window sums are
-/// written (their largest transient): the checkpoint's peak holds one of the three only.
-pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), String> {
+/// particles and contacts come from `rows_of`, not `ck` (whose rows are not read): each
+/// is gathered when it is written and freed after, before the window sums are written
+/// (their largest transient), so the checkpoint's peak holds one of the three only.
+pub fn write(
+    comm: &dyn Comm,
+    path: &Path,
+    ck: &Checkpoint,
+    rows_of: &mut dyn Gather,
+) -> Result<(), String> {
     let tmp = tmp_path(path);
     let root = comm.rank() == 0;
     // A disk that fills up while parallel HDF5 closes the file can leave the ranks waiting
     // for each other inside the library: refuse before writing when there is clearly no room.
-    let mut rows = [ck.particles.len() as u64, ck.histories.len() as u64];
+    let mut rows = rows_of.counts();
     comm.sum_u64_all(&mut rows);
     let short = if root {
         short_of_room(path, rows, ck.history_words.max(FILE_WORDS_MIN))
@@ -371,9 +403,7 @@ pub fn write(comm: &dyn Comm, path: &Path, ck: &mut Checkpoint) -> Result<(), St
             short.unwrap_or_else(|| "rank 0 found no room for it".into())
         ));
     }
-    let rows_written = write_rows_of_all(comm, &tmp, ck);
-    ck.particles = Records::default();
-    ck.histories = SavedHistory::new();
+    let rows_written = write_rows_of_all(comm, &tmp, ck, rows_of);
     let written = rows_written.and_then(|()| {
         let r = if root {
             finish_file(&tmp, ck).and_then(|()| {
@@ -471,15 +501,20 @@ fn no_room(tmp: &Path) -> Option<String> {
         .map(|e| format!("the disk has less than {} MB free: {e}", PROBE_BYTES >> 20))
 }
 
-/// Every rank's rows of the particles and contacts, and its block of the window sums, into
-/// a new `tmp` (collective). The particles and then the contacts of `ck` are freed as soon
-/// as they are written, before the sums, so that the write's peak holds one of them only.
-fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &mut Checkpoint) -> Result<(), String> {
+/// Every rank's rows of the particles and contacts (gathered from `rows_of` one part at a
+/// time, each freed once written) and its block of the window sums of `ck`, into a new
+/// `tmp` (collective): the write's peak holds one of the three only.
+fn write_rows_of_all(
+    comm: &dyn Comm,
+    tmp: &Path,
+    ck: &Checkpoint,
+    rows_of: &mut dyn Gather,
+) -> Result<(), String> {
     let on = |e: String| format!("checkpoint {}: {e}", tmp.display());
     let f = pario::together(comm, pario::create(comm, tmp, true)).map_err(on)?;
     {
         let group = |name: &str| pario::together(comm, f.file.create_group(name)).map_err(on);
-        let p = &ck.particles;
+        let p = rows_of.particles();
         let rows = Rows::of(comm, p.len() as u64);
         let g = group("particles")?;
         let put = |name: &str, data: &[f64], cols: usize| {
@@ -504,8 +539,8 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &mut Checkpoint) -> Result
         put("wall_history", &wall, WALLS * fw)?;
         drop(wall);
         drop(g);
-        ck.particles = Records::default();
-        let h = &ck.histories;
+        drop(p);
+        let h = rows_of.histories();
         let rows = Rows::of(comm, h.len() as u64);
         let c = group("contacts")?;
         let a: Vec<u64> = h.iter().map(|x| x.a).collect();
@@ -516,7 +551,7 @@ fn write_rows_of_all(comm: &dyn Comm, tmp: &Path, ck: &mut Checkpoint) -> Result
         pario::write_rows(&f, &c, "history", &hist, fw, rows, true).map_err(on)?;
         drop(hist);
         drop(c);
-        ck.histories = SavedHistory::new();
+        drop(h);
         let d = group("diagnostics")?;
         write_sums_of_all(&f, &d, &ck.diag).map_err(on)?;
     }

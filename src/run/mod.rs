@@ -5,6 +5,7 @@ use crate::comm::Comm;
 use crate::diag::count_bands;
 use crate::engine::{Phase, Sim, PHASES};
 use crate::init::{initial_particles, pour, Share};
+use crate::particles::Records;
 use crate::output::checkpoint::{self, checkpoint_path, Checkpoint};
 use crate::output::{diag_file, spacetime, RunFile, RunMeta};
 use std::path::{Path, PathBuf};
@@ -691,20 +692,34 @@ fn save_checkpoint(
             err
         });
     }
-    let (particles, histories) = sim.particles_and_histories(sim.law.has_history());
-    let mut ck = Checkpoint {
+    let ck = Checkpoint {
         case_text: case_text.to_string(),
         step: sim.step,
         samples,
         n_particles: 0,
-        particles,
-        histories,
+        particles: Records::default(),
+        histories: Vec::new(),
         history_words: sim.law.history_words(),
         diag,
     };
-    let written = checkpoint::write(comm, path, &mut ck);
+    let written = checkpoint::write(comm, path, &ck, &mut SimRows(sim));
     diags.restore(ck.diag);
     written
+}
+
+/// A checkpoint's rows gathered from the run as they are written.
+struct SimRows<'s, 'c>(&'s Sim<'c>);
+
+impl checkpoint::Gather for SimRows<'_, '_> {
+    fn counts(&self) -> [u64; 2] {
+        self.0.checkpoint_rows()
+    }
+    fn particles(&mut self) -> Records {
+        self.0.particles_by_id()
+    }
+    fn histories(&mut self) -> crate::engine::neighbor::SavedHistory {
+        self.0.histories_by_ids()
+    }
 }
 
 /// Refuse a checkpoint from another drum, model, species set or time step (unless `allow`).
