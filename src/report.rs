@@ -22,9 +22,11 @@ pub struct MemoryEstimate {
     /// pass's touching index, the history words), their capacity grown by doubling (half
     /// again on average), and the build positions and near-wall indices.
     pub list: f64,
-    /// Bytes per particle of the largest transient: a checkpoint's particles in id order
-    /// (each particle's packed record and its `ParticleState`) and, with contact histories,
-    /// its contacts (saved, packed, received, sorted).
+    /// Bytes per particle of the largest transient that goes with the particles: a
+    /// checkpoint's particles in id order (each particle's packed record, sent once and, on
+    /// more than one rank, half a share's received from the others; the sort's index or the
+    /// widest column being written) or, if more, its contacts (saved, packed, received,
+    /// sorted), gathered after the particles are written.
     pub gather: f64,
 }
 
@@ -35,8 +37,8 @@ impl MemoryEstimate {
     }
 }
 
-/// The estimate of [`MemoryEstimate`] for `case`.
-pub fn memory_estimate(case: &Case) -> MemoryEstimate {
+/// The estimate of [`MemoryEstimate`] for `case` on `ranks` ranks.
+pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
     use crate::physics::materials::WALLS;
     let words = law::ContactLaw::new(case).history_words() as f64;
     let arrays =
@@ -57,16 +59,22 @@ pub fn memory_estimate(case: &Case) -> MemoryEstimate {
         1.0
     };
     let list = pairs * (8.0 + 8.0 + 4.0 + 8.0 * words) * 1.5 + 24.0 + 4.0;
+    // the records of the particles as sent and, on more than one rank, those received from
+    // the others (the id order does not follow the slabs: about half a share); then the
+    // sort's index (12 B) or the widest column written (the wall histories)
+    let exchange = if ranks > 1 { 1.5 } else { 1.0 };
     let record = 8.0 * crate::particles::packed_words(words as usize) as f64;
-    let state = std::mem::size_of::<crate::particles::ParticleState>() as f64;
-    let mut gather = record + state;
+    let file_words = words.max(crate::output::checkpoint::FILE_WORDS_MIN as f64);
+    let column = (8.0 * WALLS as f64 * file_words).max(16.0);
+    let mut gather = exchange * record + column;
     if words > 0.0 {
-        // a dense bed's contacts, each once: about 3 per particle; the states are held
-        // while the contacts are saved and packed, then received and sorted
-        let contacts = pairs.min(3.0);
-        let one = std::mem::size_of::<crate::engine::neighbor::SavedContact>() as f64
-            + 8.0 * crate::engine::neighbor::record_words(words as usize) as f64;
-        gather = gather.max(state + 2.0 * contacts * one);
+        // the contacts, each once, gathered once the particles are written: about 2 per
+        // particle (a frictional bed's mean coordination number is about 4; the flowing
+        // bench bed has 1.3-1.5), each saved, packed into its message, received and kept
+        let contacts = pairs.min(2.0);
+        let saved = std::mem::size_of::<crate::engine::neighbor::SavedContact>() as f64;
+        let packed = 8.0 * crate::engine::neighbor::record_words(words as usize) as f64;
+        gather = gather.max(contacts * (saved + exchange * packed));
     }
     MemoryEstimate {
         arrays,
@@ -123,17 +131,23 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     } else {
         0.0
     };
-    let est = memory_estimate(case);
+    let est = memory_estimate(case, ranks);
     let share = n as f64 / ranks as f64;
-    let particles_mem = share * est.per_particle() + ghosts_per_rank * est.arrays;
+    let persistent = share * (est.arrays + est.list) + ghosts_per_rank * est.arrays;
     // the window sums (the diagnostics line below): rank 0 holds the field sums and its block
     // of the per-slice sums, another rank its block; their pages are committed only where
     // the bed reached, about half
     let (field_sums, slice_sums) = window_sums_bytes(case, ranks);
     let sums_rank0 = 0.5 * (field_sums + slice_sums) as f64;
     let sums_other = 0.5 * slice_sums as f64;
-    let mem_rank0 = particles_mem + sums_rank0;
-    let mem_all = mem_rank0 + (ranks - 1) as f64 * (particles_mem + sums_other);
+    // a checkpoint writes the sums last, one half of one of them at a time (8 B a sum, all
+    // its pages), beside HDF5's chunk and gzip buffers: the peak is that or the particles'
+    // gather, whichever is larger
+    let sums_write = |bytes: usize| 0.5 * bytes as f64 + 1.5 * (1 << 20) as f64;
+    let gather = share * est.gather;
+    let mem_rank0 = persistent + sums_rank0 + gather.max(sums_write(field_sums.max(slice_sums)));
+    let mem_other = persistent + sums_other + gather.max(sums_write(slice_sums));
+    let mem_all = mem_rank0 + (ranks - 1) as f64 * mem_other;
 
     let _ = writeln!(out, "case           {}", case.title);
     let _ = writeln!(out, "drum           {}", drum_line(case, &walls));
@@ -215,7 +229,7 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
         "memory         about {:.1} MiB on rank 0{}, {:.1} MiB over the ranks ({:.0} B per particle), beside each process's fixed cost (libraries, MPI, HDF5)",
         mib(mem_rank0),
         if ranks > 1 {
-            format!(", {:.1} MiB on each other rank", mib(particles_mem + sums_other))
+            format!(", {:.1} MiB on each other rank", mib(mem_other))
         } else {
             String::new()
         },

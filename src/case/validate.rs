@@ -1105,8 +1105,8 @@ fn most_ranks(case: &Case) -> usize {
 /// their own rank count.
 pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
     let n = estimated_particles(case);
+    let per_particle = crate::report::memory_estimate(case, ranks).per_particle();
     let ranks = ranks.max(1) as f64;
-    let per_particle = crate::report::memory_estimate(case).per_particle();
     let bytes = n * per_particle / ranks;
     if at_most(bytes, INITIAL_MEMORY_MAX) {
         return Ok(());

@@ -844,9 +844,12 @@ impl<'c> Sim<'c> {
         let hist_words = self.p.hist_words;
         let rec = record_words(hist_words);
         let saved = self.saved_histories();
-        let mine = self.to_shares(saved.iter(), rec, |h| h.a, |h, m| {
-            push_record(m, h, hist_words)
-        });
+        let mine = self.to_shares(
+            saved.iter(),
+            rec,
+            |h| h.a,
+            |h, m| push_record(m, h, hist_words),
+        );
         drop(saved);
         let mut out: SavedHistory = Vec::with_capacity(mine.iter().map(|m| m.len() / rec).sum());
         for m in mine {
