@@ -173,6 +173,43 @@ fn checkpoint_without_order_keys_resumes_in_the_order_of_the_ids() {
 }
 
 #[test]
+fn checkpoint_with_an_id_out_of_range_is_refused() {
+    // ids travel as f64 words (exact below 2^53) and a run's are below 2^40: a checkpoint
+    // holding another is refused by name, not loaded with a rounded id
+    let dir = tmpdir();
+    let d = dir.path();
+    run(1, d, "a.h5", "0.01", None);
+    {
+        let f = hdf5::File::open_rw(d.join("a.ckpt.h5")).unwrap();
+        let ds = f.dataset("particles/id").unwrap();
+        let mut ids: Vec<u64> = ds.read_raw().unwrap();
+        ids[3] = (1 << 53) + 1;
+        ds.write_raw(&ids).unwrap();
+    }
+    for ranks in [1, 2] {
+        let case = case_path("sd_capped.toml");
+        let out = d.join("b.h5");
+        let ck = d.join("a.ckpt.h5");
+        let args = [
+            "run",
+            case.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--restart",
+            ck.to_str().unwrap(),
+        ];
+        let o = mpirun(ranks, &args);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("particles/id: id 9007199254740993 is out of range")
+                && !err.contains("panicked"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn checkpoint_of_another_case_is_refused() {
     let dir = tmpdir();
     let d = dir.path();
