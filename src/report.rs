@@ -61,7 +61,7 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
     let list = pairs * (8.0 + 8.0 + 4.0 + 8.0 * words) * 1.5 + 24.0 + 4.0;
     // the records of the particles as sent and, on more than one rank, those received from
     // the others (the id order does not follow the slabs: about half a share); then the
-    // sort's index (12 B) or the widest column written (the wall histories)
+    // sort's index (24 B) or the widest column written (the wall histories)
     let exchange = if ranks > 1 { 1.5 } else { 1.0 };
     let record = 8.0 * crate::particles::packed_words(words as usize) as f64;
     let file_words = words.max(crate::output::checkpoint::FILE_WORDS_MIN as f64);

@@ -174,22 +174,23 @@ fn checkpoint_without_order_keys_resumes_in_the_order_of_the_ids() {
 
 #[test]
 fn checkpoint_with_an_id_out_of_range_is_refused() {
-    // ids travel as f64 words (exact below 2^53) and a run's are below 2^40: a checkpoint
-    // holding another is refused by name, not loaded with a rounded id
+    // ids travel as f64 words (exact below 2^53) and a run's are below 2^40 (the rough
+    // wall's start there): a checkpoint holding another is refused by name, not loaded
     let dir = tmpdir();
     let d = dir.path();
     run(1, d, "a.h5", "0.01", None);
-    {
-        let f = hdf5::File::open_rw(d.join("a.ckpt.h5")).unwrap();
+    let ck = d.join("a.ckpt.h5");
+    let set_id = |id: u64| {
+        let f = hdf5::File::open_rw(&ck).unwrap();
         let ds = f.dataset("particles/id").unwrap();
         let mut ids: Vec<u64> = ds.read_raw().unwrap();
-        ids[3] = (1 << 53) + 1;
+        ids[3] = id;
         ds.write_raw(&ids).unwrap();
-    }
-    for ranks in [1, 2] {
-        let case = case_path("sd_capped.toml");
-        let out = d.join("b.h5");
-        let ck = d.join("a.ckpt.h5");
+    };
+    let case = case_path("sd_capped.toml");
+    let out = d.join("b.h5");
+    for (id, ranks) in [((1u64 << 53) + 1, 1), ((1 << 53) + 1, 2), (1 << 40, 2)] {
+        set_id(id);
         let args = [
             "run",
             case.to_str().unwrap(),
@@ -202,7 +203,7 @@ fn checkpoint_with_an_id_out_of_range_is_refused() {
         assert!(!o.status.success());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(
-            err.contains("particles/id: id 9007199254740993 is out of range")
+            err.contains(&format!("particles/id: id {id} is out of range"))
                 && !err.contains("panicked"),
             "{err}"
         );

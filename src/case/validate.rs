@@ -16,8 +16,8 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 /// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
 pub const STEPS_MAX: f64 = 1e12;
 
-/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 2e7
-/// particles at `report::memory_estimate`'s bytes per particle (about 800 without contact
+/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 3e7
+/// particles at `report::memory_estimate`'s bytes per particle (about 550 without contact
 /// histories; the largest case of cases/ has 9e4).
 /// Each rank makes only its own slab's part. Checked by [`initial_memory`] on the estimate
 /// of [`estimated_particles`] before anything is allocated.
@@ -1118,7 +1118,9 @@ pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
             "more than 1e299 GiB".into()
         }
     };
-    let needed = (n * per_particle / INITIAL_MEMORY_MAX).ceil();
+    // on more than one rank a particle costs a little more (the gather's exchange)
+    let per_many = crate::report::memory_estimate(case, 2).per_particle();
+    let needed = (n * per_many / INITIAL_MEMORY_MAX).ceil().max(2.0);
     let most = most_ranks(case) as f64;
     let remedy = if needed.is_finite() && needed <= most {
         format!("run it on at least {needed:.0} ranks, or make")

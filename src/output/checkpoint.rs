@@ -67,19 +67,6 @@ pub trait Gather {
     fn histories(&mut self) -> SavedHistory;
 }
 
-/// A checkpoint's own rows (as read, or made by hand) written again.
-impl Gather for Checkpoint {
-    fn counts(&self) -> [u64; 2] {
-        [self.particles.len() as u64, self.histories.len() as u64]
-    }
-    fn particles(&mut self) -> Records {
-        std::mem::take(&mut self.particles)
-    }
-    fn histories(&mut self) -> SavedHistory {
-        std::mem::take(&mut self.histories)
-    }
-}
-
 /// The state a run continues from.
 #[derive(Debug, Clone)]
 pub struct Checkpoint {
@@ -89,8 +76,9 @@ pub struct Checkpoint {
     pub step: u64,
     /// Axial samples written to the output so far.
     pub samples: u64,
-    /// Mobile particles, sorted by id: this rank's share (being written, or read by
-    /// [`read_share`]), the ranks' shares in increasing order of id.
+    /// Mobile particles, sorted by id: this rank's share as read by [`read_share`], the
+    /// ranks' shares in increasing order of id (empty in a checkpoint being written: [`write`]
+    /// takes its rows from a [`Gather`]).
     pub particles: Records,
     /// Contact histories, sorted by ids: this rank's share, as the particles.
     pub histories: SavedHistory,
@@ -372,8 +360,8 @@ pub fn tmp_path(path: &Path) -> PathBuf {
     PathBuf::from(tmp)
 }
 
-/// Write `ck` to `path` atomically (all ranks call this together, each with its share of
-/// the particles and histories and, in `ck.diag`, its block of the window sums): written
+/// Write a checkpoint to `path` atomically (all ranks call this together, each with, in
+/// `ck.diag`, its block of the window sums, and in `rows_of` its rows): written
 /// whole under [`tmp_path`], synced, then renamed over `path`. On any error, on any rank,
 /// every rank returns it, the temporary file is removed and `path` is left as it was. The
 /// particles and contacts come from `rows_of`, not `ck` (whose rows are not read): each
@@ -683,6 +671,13 @@ fn read_part(path: &Path, rank: usize, size: usize, sums: bool) -> Result<Checkp
     if f.link_exists("particles/order_key") {
         rows_of(&[("particles/id", 1), ("particles/order_key", 1)])?;
         let key: Vec<u64> = get_rows(&f, path, "particles/order_key", 1, rows)?;
+        // keys travel as f64 words too (`engine::order` keeps them below 2^53)
+        if let Some(bad) = key.iter().find(|&&k| k >= 1 << 53) {
+            return Err(format!(
+                "checkpoint {}: particles/order_key: key {bad} is out of range (keys are below 2^53); the file is not a tumbler checkpoint or is damaged",
+                path.display()
+            ));
+        }
         filled(
             particles.set_column(Field::Key, &key, |x| x as f64),
             "order_key",

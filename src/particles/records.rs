@@ -69,6 +69,7 @@ impl Records {
     }
 
     /// The records of `states`, `hist_words` history words of each wall slot kept.
+    #[cfg(test)]
     pub fn of_states(states: &[ParticleState], hist_words: usize) -> Self {
         let mut r = Records::zeros(states.len(), hist_words);
         let w = r.words();
@@ -89,11 +90,6 @@ impl Records {
             rec[tail + 3..tail + 6].copy_from_slice(&s.t);
         }
         r
-    }
-
-    /// History words per wall slot.
-    pub fn hist_words(&self) -> usize {
-        self.hist_words
     }
 
     /// Values per record.
@@ -219,20 +215,20 @@ impl Records {
     pub fn sort_by_id(&mut self) {
         let w = self.words();
         let n = self.len();
-        let mut order: Vec<(u64, u32)> = (0..n).map(|i| (self.id(i), i as u32)).collect();
+        let mut order: Vec<(u64, usize)> = (0..n).map(|i| (self.id(i), i)).collect();
         order.sort_unstable();
         // place[i]: the record that goes to slot i
-        let mut place: Vec<u32> = order.into_iter().map(|(_, k)| k).collect();
+        let mut place: Vec<usize> = order.into_iter().map(|(_, k)| k).collect();
         let mut tmp = vec![0.0; w];
         for start in 0..n {
-            if place[start] as usize == start {
+            if place[start] == start {
                 continue;
             }
             tmp.copy_from_slice(&self.data[start * w..(start + 1) * w]);
             let mut slot = start;
             loop {
-                let from = place[slot] as usize;
-                place[slot] = slot as u32;
+                let from = place[slot];
+                place[slot] = slot;
                 if from == start {
                     self.data[slot * w..(slot + 1) * w].copy_from_slice(&tmp);
                     break;
@@ -240,20 +236,6 @@ impl Records {
                 self.data.copy_within(from * w..(from + 1) * w, slot * w);
                 slot = from;
             }
-        }
-    }
-
-    /// Append the records of `other` (the same history words).
-    pub fn append(&mut self, other: &[f64]) {
-        assert_eq!(other.len() % self.words(), 0, "whole records");
-        self.data.extend_from_slice(other);
-    }
-
-    /// An empty set of records with room for `n` (of `hist_words` history words).
-    pub fn with_capacity(n: usize, hist_words: usize) -> Self {
-        Records {
-            hist_words,
-            data: Vec::with_capacity(n * packed_words(hist_words)),
         }
     }
 }
