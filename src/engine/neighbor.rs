@@ -123,6 +123,12 @@ pub const fn record_words(words: usize) -> usize {
     4 + words
 }
 
+/// Whether a pair's history words hold anything: the contacts a list saves
+/// ([`NeighborList::save_histories`]).
+fn in_use(h: &[f64]) -> bool {
+    h.iter().any(|&x| x != 0.0)
+}
+
 /// Append one saved history to a message (ids and keys as `f64`: exact below 2^53).
 pub fn push_record(buf: &mut Vec<f64>, c: &SavedContact, words: usize) {
     buf.push(c.a as f64);
@@ -507,7 +513,7 @@ impl NeighborList {
             .pairs
             .iter()
             .zip(self.hist.chunks_exact(self.words))
-            .filter(|(_, h)| h.iter().any(|&x| x != 0.0))
+            .filter(|(_, h)| in_use(h))
             .map(|(&(a, b), h)| {
                 let (a, b) = (a as usize, b as usize);
                 let mut w = History::default();
@@ -532,7 +538,7 @@ impl NeighborList {
         }
         self.hist
             .chunks_exact(self.words)
-            .filter(|h| h.iter().any(|&x| x != 0.0))
+            .filter(|h| in_use(h))
             .count()
     }
 

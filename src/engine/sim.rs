@@ -650,7 +650,7 @@ impl<'c> Sim<'c> {
         let n = ((self.slabs.length / width).floor() as usize).max(1);
         let z0 = -0.5 * self.slabs.length;
         let mut top = vec![f64::NEG_INFINITY; n];
-        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
+        for i in self.mobile() {
             let k = (((self.p.x[i][2] - z0) / self.slabs.length * n as f64) as usize).min(n - 1);
             top[k] = top[k].max(self.p.x[i][1]);
         }
@@ -669,7 +669,7 @@ impl<'c> Sim<'c> {
         if let Some(fault) = &self.fault {
             return Err(fault.clone());
         }
-        for i in (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i])) {
+        for i in self.mobile() {
             let (x, v, w) = (self.p.x[i], self.p.v[i], self.p.w[i]);
             let describe = |what: &str| {
                 format!(
@@ -746,12 +746,15 @@ impl<'c> Sim<'c> {
         [0, 1, 2].map(|k| (-neg[k], v[k]))
     }
 
+    /// This rank's mobile particles (the owned ones not fixed to the drum): those the files
+    /// hold.
+    fn mobile(&self) -> impl Iterator<Item = usize> + Clone + '_ {
+        (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]))
+    }
+
     /// Total number of mobile particles over all ranks.
     pub fn global_count(&self) -> u64 {
-        let mobile = (0..self.p.n_owned)
-            .filter(|&i| !is_fixed(self.p.species[i]))
-            .count();
-        self.comm.sum_u64(mobile as u64)
+        self.comm.sum_u64(self.mobile().count() as u64)
     }
 
     /// Which rank keeps which ids in the files' id order ([`Sim::particles_by_id`]): a
@@ -759,10 +762,9 @@ impl<'c> Sim<'c> {
     /// particles. Returns the histogram's bin width in ids and each bin's rank.
     fn id_shares(&self) -> (u64, Vec<usize>) {
         let size = self.comm.size();
-        let mobile = || (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
         // ids are below 2^53 (they travel as f64), so the maximum is exact
         let top = self.comm.max_f64(
-            mobile()
+            self.mobile()
                 .map(|i| self.p.id[i])
                 .max()
                 .map_or(0.0, |m| m as f64),
@@ -770,7 +772,7 @@ impl<'c> Sim<'c> {
         let bins = (16 * size).min(1 << 20) as u64;
         let width = (top / bins + 1).max(1);
         let mut hist = vec![0u64; bins as usize];
-        for i in mobile() {
+        for i in self.mobile() {
             hist[((self.p.id[i] / width) as usize).min(bins as usize - 1)] += 1;
         }
         self.comm.sum_u64_all(&mut hist);
@@ -817,8 +819,12 @@ impl<'c> Sim<'c> {
     /// file's particles (all ranks call this together).
     pub fn particles_by_id(&self) -> Records {
         let words = self.p.packed_words();
-        let mobile = (0..self.p.n_owned).filter(|&i| !is_fixed(self.p.species[i]));
-        let mut mine = self.to_shares(mobile, words, |i| self.p.id[i], |i, m| self.p.pack(i, m));
+        let mut mine = self.to_shares(
+            self.mobile(),
+            words,
+            |i| self.p.id[i],
+            |i, m| self.p.pack(i, m),
+        );
         // kept as the records received: the largest message grows (a mapped block, moved
         // without a copy) by the others, each freed once appended
         let total = mine.iter().map(Vec::len).sum::<usize>();
@@ -864,9 +870,7 @@ impl<'c> Sim<'c> {
     /// history: upper bounds of its rows of a checkpoint (a contact across a slab face is
     /// counted by both ranks).
     pub fn checkpoint_rows(&self) -> [u64; 2] {
-        let mobile = (0..self.p.n_owned)
-            .filter(|&i| !is_fixed(self.p.species[i]))
-            .count();
+        let mobile = self.mobile().count();
         let contacts = if self.law.has_history() {
             self.nl.history_count()
         } else {

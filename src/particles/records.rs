@@ -147,22 +147,19 @@ impl Records {
 
     /// `field` of every record, as `f64` values (rows of its width, in the records' order).
     pub fn column(&self, field: Field) -> Vec<f64> {
-        let (a, n) = self.span(field);
-        let mut out = Vec::with_capacity(self.len() * n);
-        for rec in self.data.chunks_exact(self.words()) {
-            out.extend_from_slice(&rec[a..a + n]);
-        }
-        out
+        self.column_as(field, |x| x)
     }
 
     /// `field` of every record, each value converted by `f` (ids, keys and species are
     /// held as `f64`, exact below 2^53).
     pub fn column_as<T>(&self, field: Field, f: impl Fn(f64) -> T) -> Vec<T> {
         let (a, n) = self.span(field);
-        self.data
-            .chunks_exact(self.words())
-            .flat_map(|rec| rec[a..a + n].iter().map(|&x| f(x)))
-            .collect()
+        // exact size: a column is one of a file write's transients
+        let mut out = Vec::with_capacity(self.len() * n);
+        for rec in self.data.chunks_exact(self.words()) {
+            out.extend(rec[a..a + n].iter().map(|&x| f(x)));
+        }
+        out
     }
 
     /// The wall histories, `width` words per slot (`width` ≥ the records' history words;
