@@ -620,7 +620,12 @@ fn a_bad_set_value_is_named_as_the_set() {
 
 /// A particle file (`/particles` as a run writes it) holding `n` particles.
 fn particle_file(path: &std::path::Path, d: &[f64], x: &[[f64; 3]], v: &[[f64; 3]]) {
-    let f = hdf5::File::create(path).unwrap();
+    // written beside `path` and copied to it: HDF5 opens its files without close-on-exec, so
+    // a `tumbler` another test thread starts while this one is open inherits the descriptor
+    // and HDF5's lock on the file with it for as long as it runs ("unable to lock file,
+    // errno = 11" when the test then reads it); the copy is a new file nobody holds
+    let written = path.with_extension("written.h5");
+    let f = hdf5::File::create(&written).unwrap();
     let g = f.create_group("particles").unwrap();
     let n = d.len();
     let flat = |a: &[[f64; 3]]| a.iter().flatten().copied().collect::<Vec<f64>>();
@@ -647,10 +652,11 @@ fn particle_file(path: &std::path::Path, d: &[f64], x: &[[f64; 3]], v: &[[f64; 3
         .create("angular_velocity")
         .unwrap();
     // closed here, every handle with it, before the test opens the file again (HDF5 locks
-    // a file while it is open: a lazily released handle made the reading side fail with
-    // "unable to lock file" once)
+    // a file while it is open)
     drop(g);
     f.close().unwrap();
+    std::fs::copy(&written, path).unwrap();
+    std::fs::remove_file(&written).unwrap();
 }
 
 /// A particle file's name, diameters, positions, velocities and the refusal it gets.
