@@ -139,14 +139,12 @@ fn a_restart_on_8_ranks_reads_only_its_share_of_the_checkpoint() {
     assert!(n >= 8 && nh >= 8, "{n} particles, {nh} contacts");
     let o = run(8, &out, "0.03", &["--restart", ck.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
-    // "rank R: read K of N particles and H contact histories of the checkpoint"
+    // "rank R: read K of N particles and H contact histories of the checkpoint", searched
+    // in the whole text: the 8 ranks' lines can interleave (one ran on into the next)
     let mut read = vec![None; 8];
-    for line in err.lines() {
-        let Some(at) = line.find("rank ") else {
-            continue;
-        };
-        let words: Vec<&str> = line[at..].split_whitespace().collect();
-        if words.len() < 10 || words[2] != "read" || !line.contains("of the checkpoint") {
+    for (at, _) in err.match_indices("rank ") {
+        let words: Vec<&str> = err[at..].split_whitespace().take(14).collect();
+        if words.len() < 14 || words[2] != "read" || !words[13].starts_with("checkpoint") {
             continue;
         }
         let rank: usize = words[1].trim_end_matches(':').parse().unwrap();
