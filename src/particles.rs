@@ -1,7 +1,9 @@
 //! Struct-of-arrays particle storage. The first `n_owned` entries are the particles this rank
 //! owns; the rest are ghost copies of neighbours' particles (rebuilt with the halo).
 
+mod history_blocks;
 pub mod records;
+pub use history_blocks::HistoryBlocks;
 pub use records::{Field, Records};
 
 use crate::physics::contact::{History, HISTORY_MAX};
@@ -51,9 +53,10 @@ pub struct Particles {
     pub f: Vec<[f64; 3]>,
     /// Torque.
     pub t: Vec<[f64; 3]>,
-    /// History of the contact with each wall (curved, cap low, cap high), zero when not
-    /// touching: [`WALLS`] slots of [`Self::hist_words`] words per particle.
-    pub wall_hist: Vec<f64>,
+    /// History of the contact with each wall (curved, cap low, cap high, lifter), zero when
+    /// not touching: [`WALLS`] slots of [`Self::hist_words`] words per particle, held only for
+    /// the particles touching a wall.
+    pub wall_hist: HistoryBlocks,
     /// History words per contact (the law's `history_words`).
     pub hist_words: usize,
     /// Axial offset of a ghost's periodic image, used only to bin it (0 for owned particles).
@@ -108,15 +111,9 @@ impl Particles {
     pub fn new(hist_words: usize) -> Self {
         Particles {
             hist_words,
+            wall_hist: HistoryBlocks::new(WALLS * hist_words),
             ..Default::default()
         }
-    }
-
-    /// The wall histories of particle `i` ([`WALLS`] slots of `hist_words` words).
-    #[inline]
-    pub fn wall_hist_mut(&mut self, i: usize) -> &mut [f64] {
-        let w = WALLS * self.hist_words;
-        &mut self.wall_hist[i * w..(i + 1) * w]
     }
 
     /// Words of this store's full-state record ([`Self::pack`]).
@@ -155,9 +152,12 @@ impl Particles {
         self.w.push(p.w);
         self.f.push(p.f);
         self.t.push(p.t);
-        for h in &p.wall_hist {
-            self.wall_hist.extend_from_slice(&h[..self.hist_words]);
+        let w = self.hist_words;
+        let mut h = [0.0; WALLS * HISTORY_MAX];
+        for (k, slot) in p.wall_hist.iter().enumerate() {
+            h[k * w..(k + 1) * w].copy_from_slice(&slot[..w]);
         }
+        self.wall_hist.push(&h[..WALLS * w]);
         self.z_image.push(z_image);
     }
 
@@ -187,9 +187,10 @@ impl Particles {
     fn wall_hist_of(&self, i: usize) -> [History; WALLS] {
         let w = self.hist_words;
         let mut out = [[0.0; HISTORY_MAX]; WALLS];
-        for (k, h) in out.iter_mut().enumerate() {
-            let at = (i * WALLS + k) * w;
-            h[..w].copy_from_slice(&self.wall_hist[at..at + w]);
+        if let Some(h) = self.wall_hist.get(i) {
+            for (k, slot) in out.iter_mut().enumerate() {
+                slot[..w].copy_from_slice(&h[k * w..(k + 1) * w]);
+            }
         }
         out
     }
@@ -205,12 +206,6 @@ impl Particles {
     /// keeps a sixteenth of room to grow, so that the halo's small changes from one build
     /// to the next do not reallocate every time.
     pub fn trim(&mut self) {
-        fn trim<T>(v: &mut Vec<T>) {
-            let (len, cap) = (v.len(), v.capacity());
-            if cap > len + len / 4 + 64 {
-                v.shrink_to(len + len / 16);
-            }
-        }
         trim(&mut self.id);
         trim(&mut self.key);
         trim(&mut self.species);
@@ -222,7 +217,7 @@ impl Particles {
         trim(&mut self.w);
         trim(&mut self.f);
         trim(&mut self.t);
-        trim(&mut self.wall_hist);
+        self.wall_hist.trim();
         trim(&mut self.z_image);
     }
 
@@ -238,7 +233,7 @@ impl Particles {
         self.w.truncate(n);
         self.f.truncate(n);
         self.t.truncate(n);
-        self.wall_hist.truncate(n * WALLS * self.hist_words);
+        self.wall_hist.truncate(n);
         self.z_image.truncate(n);
     }
 
@@ -261,12 +256,12 @@ impl Particles {
                     self.w[k] = self.w[i];
                     self.f[k] = self.f[i];
                     self.t[k] = self.t[i];
-                    let w = WALLS * self.hist_words;
-                    self.wall_hist.copy_within(i * w..(i + 1) * w, k * w);
                 }
                 k += 1;
             }
         }
+        self.wall_hist
+            .select((0..self.n_owned).filter(|&i| !leave[i]));
         self.truncate(k);
         self.n_owned = k;
     }
@@ -295,22 +290,13 @@ impl Particles {
         gather(&mut self.f, &order);
         gather(&mut self.t, &order);
         gather(&mut self.z_image, &order);
-        let w = WALLS * self.hist_words;
-        self.wall_hist = order
-            .iter()
-            .flat_map(|&i| {
-                self.wall_hist[i as usize * w..(i as usize + 1) * w]
-                    .iter()
-                    .copied()
-            })
-            .collect();
+        self.wall_hist.select(order.iter().map(|&i| i as usize));
     }
 
     /// Append particle `i`'s full state to a message buffer ([`Self::packed_words`] words).
     pub fn pack(&self, i: usize, buf: &mut Vec<f64>) {
         self.pack_ghost(i, buf);
-        let w = WALLS * self.hist_words;
-        buf.extend_from_slice(&self.wall_hist[i * w..(i + 1) * w]);
+        self.wall_hist.extend_into(i, buf);
         buf.extend_from_slice(&self.f[i]);
         buf.extend_from_slice(&self.t[i]);
     }
@@ -341,6 +327,15 @@ impl Particles {
         self.x[i].copy_from_slice(&rec[0..3]);
         self.v[i].copy_from_slice(&rec[3..6]);
         self.w[i].copy_from_slice(&rec[6..9]);
+    }
+}
+
+/// Give back a vector's spare capacity when more than a quarter of it (and 64 entries) is
+/// spare, keeping a sixteenth of room to grow ([`Particles::trim`]).
+fn trim<T>(v: &mut Vec<T>) {
+    let (len, cap) = (v.len(), v.capacity());
+    if cap > len + len / 4 + 64 {
+        v.shrink_to(len + len / 16);
     }
 }
 

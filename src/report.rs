@@ -12,15 +12,17 @@ use std::fmt::Write;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MemoryEstimate {
     /// Bytes of one particle's arrays (`Particles`: id, species, diameter, inverse mass and
-    /// inertia, position, velocity, spin, force, torque, axial image offset and its wall
-    /// histories), with the sixteenth of room `Particles::trim` leaves; a ghost's too.
+    /// inertia, position, velocity, spin, force, torque, axial image offset, and its wall
+    /// histories' index and, for the particles touching a wall, their block), with the
+    /// sixteenth of room `Particles::trim` leaves; a ghost's too.
     pub arrays: f64,
     /// Pairs listed per particle (half the neighbours within the list's range, at the
     /// initial state's number density).
     pub pairs: f64,
     /// Bytes of the neighbour list per particle: its pairs (indices, contact distance, the
-    /// pass's touching index, the history words), their capacity grown by doubling (half
-    /// again on average), and the build positions and near-wall indices.
+    /// pass's touching index, the history's block index and, for those touching, its
+    /// words), their capacity grown by doubling (half again on average), and the build
+    /// positions and near-wall indices.
     pub list: f64,
     /// Bytes per particle of the largest transient that goes with the particles: a
     /// checkpoint's particles in id order (each particle's packed record, sent once and, on
@@ -41,8 +43,10 @@ impl MemoryEstimate {
 pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
     use crate::physics::materials::WALLS;
     let words = law::ContactLaw::new(case).history_words() as f64;
-    let arrays =
-        (8.0 + 8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + WALLS as f64 * 8.0 * words) * 17.0 / 16.0;
+    // the wall histories: a block index, and a block for the particles touching a wall
+    // (about one in ten of a bed; blocks are kept for the most at once)
+    let wall = 4.0 + 0.15 * WALLS as f64 * 8.0 * words;
+    let arrays = (8.0 + 8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + wall) * 17.0 / 16.0;
     // number density of the initial state: the lattice's, or a bed packed at 0.6
     let ns = case.species.len().max(1) as f64;
     let d = case.species.iter().map(|s| s.diameter).sum::<f64>() / ns;
@@ -58,7 +62,13 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
     } else {
         1.0
     };
-    let list = pairs * (8.0 + 8.0 + 4.0 + 8.0 * words) * 1.5 + 24.0 + 4.0;
+    // a pair's history: a block index, and a block for the quarter of the pairs that touch
+    let hist = if words > 0.0 {
+        4.0 + 0.25 * 8.0 * words
+    } else {
+        0.0
+    };
+    let list = pairs * (8.0 + 8.0 + 4.0 + hist) * 1.5 + 24.0 + 4.0;
     // the records of the particles as sent and, on more than one rank, those received from
     // the others (the id order does not follow the slabs: about half a share); then the
     // sort's index (24 B) or the widest column written (the wall histories)

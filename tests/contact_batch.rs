@@ -80,14 +80,21 @@ fn pass(
     let w = nl.words;
     assert_eq!(w, law.history_words());
     assert!(nl.pairs.len() <= hist.len(), "{} pairs", nl.pairs.len());
-    for (k, h) in nl.hist.chunks_exact_mut(w.max(1)).enumerate() {
-        h.copy_from_slice(&hist[k][..w]);
+    if w > 0 {
+        for (k, h) in hist.iter().take(nl.pairs.len()).enumerate() {
+            nl.hist.set(k, &h[..w]);
+        }
     }
     for f in p.f.iter_mut().chain(p.t.iter_mut()) {
         *f = [0.0; 3];
     }
     pair_forces_with(isa, &mut p, &mut nl, law, mat, period, scale);
-    (p.f, p.t, nl.hist)
+    // every pair's history, zeros where it holds none
+    let mut words = Vec::new();
+    for k in 0..nl.hist.len() {
+        nl.hist.extend_into(k, &mut words);
+    }
+    (p.f, p.t, words)
 }
 
 fn bits(v: &[[f64; 3]]) -> Vec<[u64; 3]> {

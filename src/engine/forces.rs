@@ -7,6 +7,7 @@ use super::neighbor::NeighborList;
 use crate::particles::Particles;
 use crate::physics::batch::{Batch, BatchLaw, Composed, LANES};
 use crate::physics::cohesion::{CohesionPart, WithCohesion};
+use crate::physics::contact::HISTORY_MAX;
 use crate::physics::integrate::min_image;
 use crate::physics::normal::{NormalPart, WithNormal};
 use crate::physics::rolling::{RollingPart, WithRolling};
@@ -227,15 +228,9 @@ impl Pass<'_> {
     /// lists; after a build it is a scan of the whole list. A history is written only when
     /// it is not zero already, as the scalar law's pass does (a `-0.0` stays as it is).
     fn clear_parted<L: BatchLaw>(nl: &mut NeighborList, m: usize) {
-        let words = L::WORDS;
         let touch = &nl.touch[..m];
         let hist = &mut nl.hist;
-        let mut clear = |k: usize| {
-            let h = &mut hist[k * words..(k + 1) * words];
-            if h.iter().any(|&x| x != 0.0) {
-                h.fill(0.0);
-            }
-        };
+        let mut clear = |k: usize| hist.clear_nonzero(k);
         let mut t = touch.iter().peekable();
         let mut not_touching = |k: u32| {
             while t.next_if(|&&x| x < k).is_some() {}
@@ -297,9 +292,17 @@ impl Pass<'_> {
                 b.normal_k[l] = fr.normal_k;
                 b.normal_c[l] = fr.normal_c;
             }
-            let k = k as usize;
-            for (q, &h) in nl.hist[k * L::WORDS..(k + 1) * L::WORDS].iter().enumerate() {
-                b.hist[q][l] = h;
+            match nl.hist.get(k as usize) {
+                Some(h) => {
+                    for (q, &h) in h.iter().enumerate() {
+                        b.hist[q][l] = h;
+                    }
+                }
+                None => {
+                    for h in &mut b.hist[..L::WORDS] {
+                        h[l] = 0.0;
+                    }
+                }
             }
         }
     }
@@ -316,12 +319,12 @@ impl Pass<'_> {
                 p.t[a][q] -= b.torque_a[q][l];
                 p.t[c][q] -= b.torque_b[q][l];
             }
-            let k = k as usize;
-            for (q, h) in nl.hist[k * L::WORDS..(k + 1) * L::WORDS]
-                .iter_mut()
-                .enumerate()
-            {
-                *h = b.hist[q][l];
+            if L::WORDS > 0 {
+                let mut h = [0.0; HISTORY_MAX];
+                for (q, h) in h[..L::WORDS].iter_mut().enumerate() {
+                    *h = b.hist[q][l];
+                }
+                nl.hist.set(k as usize, &h[..L::WORDS]);
             }
         }
     }
@@ -424,7 +427,11 @@ pub fn pair_forces_reference(
     let words = law.history_words();
     let rolling = law.has_rolling();
     for (k, (&(a, b), &cut2)) in nl.pairs.iter().zip(&nl.cut2).enumerate() {
-        let hist = &mut nl.hist[k * words..(k + 1) * words];
+        let mut hist = [0.0; HISTORY_MAX];
+        if let Some(h) = nl.hist.get(k) {
+            hist[..words].copy_from_slice(h);
+        }
+        let hist = &mut hist[..words];
         let (a, b) = (a as usize, b as usize);
         let xa = p.x[a];
         let xb = p.x[b];
@@ -442,13 +449,13 @@ pub fn pair_forces_reference(
             rc * rc
         };
         if r.norm_squared() >= rc2 {
-            if hist.iter().any(|&x| x != 0.0) {
-                hist.fill(0.0);
-            }
+            nl.hist.clear_nonzero(k);
             continue;
         }
         let (ba, bb) = (body(p, a, scale), body(p, b, scale));
-        let Some(c) = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist) else {
+        let c = law.pair(r, &ba, &bb, mat.pair(p.species[a], p.species[b]), hist);
+        nl.hist.set(k, hist);
+        let Some(c) = c else {
             continue;
         };
         let mut ta = c.n_cross_fs * (0.5 * ba.d);
@@ -489,14 +496,10 @@ pub fn wall_and_body_forces(
     for &i in near {
         let i = i as usize;
         let b = body(p, i, scale);
-        let load = walls.load(
-            law,
-            mat,
-            p.species[i],
-            V3::from(p.x[i]),
-            &b,
-            p.wall_hist_mut(i),
-        );
+        let (species, x) = (p.species[i], V3::from(p.x[i]));
+        let load = p
+            .wall_hist
+            .update(i, |h| walls.load(law, mat, species, x, &b, h));
         for k in 0..3 {
             p.f[i][k] += load.force[k];
             p.t[i][k] += load.torque[k];

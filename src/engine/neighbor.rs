@@ -16,7 +16,7 @@
 //! (with a search where the list steps back, see [`NeighborList::save_histories`]).
 
 use crate::engine::forces::Isa;
-use crate::particles::Particles;
+use crate::particles::{HistoryBlocks, Particles};
 use crate::physics::contact::History;
 use crate::physics::integrate::min_image;
 use crate::physics::rough_wall::is_fixed;
@@ -156,9 +156,9 @@ pub fn read_record(rec: &[f64], words: usize) -> SavedContact {
 pub struct NeighborList {
     /// Candidate pairs `(a, b)`, `id[a] < id[b]`, in the canonical order (see the module).
     pub pairs: Vec<(u32, u32)>,
-    /// History of each pair (zero when not in contact): [`Self::words`] words per pair, in
-    /// list order.
-    pub hist: Vec<f64>,
+    /// History of each pair, in list order: [`Self::words`] words, held only for the pairs
+    /// whose history is not zero (those in contact).
+    pub hist: HistoryBlocks,
     /// History words per pair (the law's `history_words`: 0, 3 or 6).
     pub words: usize,
     /// Square of each pair's contact distance at full size (the law's cutoff), so that the
@@ -442,8 +442,10 @@ impl NeighborList {
         self.x_build.clear();
         self.x_build.extend_from_slice(&p.x[..p.n_owned]);
         self.words = law.history_words();
-        self.hist.clear();
-        self.hist.resize(self.pairs.len() * self.words, 0.0);
+        if self.hist.width() != self.words {
+            self.hist = HistoryBlocks::new(self.words);
+        }
+        self.hist.reset(self.pairs.len());
         self.forget_touching();
     }
 
@@ -493,7 +495,7 @@ impl NeighborList {
             if walls.near(p.x[i], law.wall_reach(p.diameter[i]) + skin) {
                 self.near_walls.push(i as u32);
             } else {
-                p.wall_hist_mut(i).fill(0.0);
+                p.wall_hist.clear(i);
             }
         }
     }
@@ -512,8 +514,8 @@ impl NeighborList {
         let mut saved: SavedHistory = self
             .pairs
             .iter()
-            .zip(self.hist.chunks_exact(self.words))
-            .filter(|(_, h)| in_use(h))
+            .zip(self.hist.iter())
+            .filter_map(|(pair, h)| h.filter(|h| in_use(h)).map(|h| (pair, h)))
             .map(|(&(a, b), h)| {
                 let (a, b) = (a as usize, b as usize);
                 let mut w = History::default();
@@ -536,10 +538,7 @@ impl NeighborList {
         if self.words == 0 {
             return 0;
         }
-        self.hist
-            .chunks_exact(self.words)
-            .filter(|h| in_use(h))
-            .count()
+        self.hist.iter().flatten().filter(|h| in_use(h)).count()
     }
 
     /// Give each pair of a freshly built list its saved history (`saved` in the list's
@@ -555,7 +554,7 @@ impl NeighborList {
         let mut k = 0;
         let mut last = (0, 0);
         let rank = |i: u32| rank_of(p.key[i as usize], p.id[i as usize]);
-        for (pair, h) in self.pairs.iter().zip(self.hist.chunks_exact_mut(words)) {
+        for (i, pair) in self.pairs.iter().enumerate() {
             let key = pair_order(rank(pair.0), rank(pair.1));
             if key < last {
                 k = saved.partition_point(|x| x.order() < key);
@@ -565,7 +564,7 @@ impl NeighborList {
                 k += 1;
             }
             if k < saved.len() && saved[k].order() == key {
-                h.copy_from_slice(&saved[k].h[..words]);
+                self.hist.set(i, &saved[k].h[..words]);
             }
         }
     }
