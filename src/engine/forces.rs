@@ -172,7 +172,7 @@ impl Pass<'_> {
     fn run_any<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
         let m = self.touching(p, nl);
         if L::WORDS > 0 {
-            Self::clear_parted::<L>(nl, m);
+            Self::clear_parted(nl, m);
         }
         let touch = std::mem::take(&mut nl.touch);
         let mut b = Batch::default();
@@ -227,7 +227,7 @@ impl Pass<'_> {
     /// (`nl.touched_before`), so when that is known this is a merge of two short sorted
     /// lists; after a build it is a scan of the whole list. A history is written only when
     /// it is not zero already, as the scalar law's pass does (a `-0.0` stays as it is).
-    fn clear_parted<L: BatchLaw>(nl: &mut NeighborList, m: usize) {
+    fn clear_parted(nl: &mut NeighborList, m: usize) {
         let touch = &nl.touch[..m];
         let hist = &mut nl.hist;
         let mut clear = |k: usize| hist.clear_nonzero(k);
