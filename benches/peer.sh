@@ -40,7 +40,10 @@
 # (particles - small run's particles) is what a particle costs. (Rank 0 holds the
 # reductions and gathers, so on 2 ranks its baseline is higher than the other rank's; both
 # ranks' values are shown.)
-# `tumbler check`'s estimate is shown beside.
+# `tumbler check`'s estimate of the same is shown beside, as benches/memory.sh does: its
+# memory over the ranks for the run less its memory over the ranks for the small run, divided
+# by the same difference of particles (so a transient that both runs share, such as the
+# window sums' write, cancels in both), and the ratio estimate / measured.
 #
 # Other settings: PEER_WORK (work directory), PEER_FRESH=1 (new bed), PEER_START
 # (auto|file|restart), PEER_SERIES=0, PEER_STEPS and PEER_ROTATIONS_A (shorter runs, to try
@@ -370,20 +373,28 @@ phase_rows() {  # tag: median seconds per phase, 1 and 2 ranks
     echo "| $name | $(median_of "${phase[$1.1.$name]:-}") | $(median_of "${phase[$1.2.$name]:-}") |"
   done
 }
-memory_rows() {  # tag small-tag case check-args...
-  local tag="$1" small="$2" case_file="$3" np est; shift 3
+check_mib() {  # ranks check-args...: `tumbler check`'s memory over the ranks, MiB
+  local np="$1"; shift
+  "$bin" check "$@" --ranks "$np" 2>/dev/null | sed -n 's/.* \([0-9.]*\) MiB over the ranks.*/\1/p'
+}
+memory_rows() {  # tag small-tag; the check arguments of the two runs in big_check, small_check
+  local tag="$1" small="$2" np
   for np in 1 2; do
-    est=$("$bin" check "$case_file" "$@" --ranks "$np" 2>/dev/null | sed -n 's/.*(\([0-9]*\) B per particle).*/\1/p')
     awk -v np="$np" -v s="$(median_of "${rss_sum[$tag.$np]:-}")" -v mx="$(median_of "${rss_max[$tag.$np]:-}")" \
       -v ranks="${rss_ranks[$tag.$np]:-}" -v n="${count[$tag]}" -v base="$(median_of "${rss_sum[$small.$np]:-}")" \
-      -v n_small="${count[$small]:-0}" -v branks="${rss_ranks[$small.$np]:-}" -v est="${est:--}" 'BEGIN {
-        excl = (base == "-" || n <= n_small) ? "-" : sprintf("%.0f", (s - base) * 1024 / (n - n_small))
-        printf "| %d | %.1f (%s) | %.0f | %s | %s | %s |\n", np, mx / 1024, ranks, s * 1024 / n, branks, excl, est }'
+      -v n_small="${count[$small]:-0}" -v branks="${rss_ranks[$small.$np]:-}" \
+      -v e="$(check_mib "$np" "${big_check[@]}")" -v e0="$(check_mib "$np" "${small_check[@]}")" 'BEGIN {
+        ok = base != "-" && n > n_small
+        excl = ok ? (s - base) * 1024 / (n - n_small) : 0
+        est = (ok && e != "" && e0 != "") ? (e - e0) * 1048576 / (n - n_small) : 0
+        printf "| %d | %.1f (%s) | %.0f | %s | %s | %s | %s |\n", np, mx / 1024, ranks, s * 1024 / n, branks,
+          ok ? sprintf("%.0f", excl) : "-", est > 0 ? sprintf("%.0f", est) : "-",
+          (est > 0 && excl > 0) ? sprintf("%.2f", est / excl) : "-" }'
   done
 }
 memory_header() {  # small-tag
-  echo "| ranks | peak RSS per rank, MiB: largest (all) | B/particle: sum of peak RSS / particles | small run (${count[$1]:-?} particles): peak RSS per rank, MiB | B/particle excl. baseline: (sum of peak RSS - the small run's sum on as many ranks) / (particles - the small run's) | \`tumbler check\` estimate, B/particle |"
-  echo "|---|---|---|---|---|---|"
+  echo "| ranks | peak RSS per rank, MiB: largest (all) | B/particle: sum of peak RSS / particles | small run (${count[$1]:-?} particles): peak RSS per rank, MiB | B/particle excl. baseline: (sum of peak RSS - the small run's sum on as many ranks) / (particles - the small run's) | \`tumbler check\` estimate, B/particle: (its MiB over the ranks - the small run's) / (particles - the small run's) | estimate / measured |"
+  echo "|---|---|---|---|---|---|---|"
 }
 
 table="$work/table.md"
@@ -434,7 +445,9 @@ table="$work/table.md"
   echo "of the bed, next to the wall); what is left per particle is its storage, ghosts, pair list and gathers."
   echo
   memory_header ch4small
-  memory_rows ch4 ch4small bed-case.toml "${checked[@]}"
+  big_check=(bed-case.toml "${checked[@]}")
+  small_check=(small-case.toml --set "run.rotations=$rot_steps" --set run.max_overlap=0.5)
+  memory_rows ch4 ch4small
   echo
   echo "### Same physics?"
   echo
@@ -492,7 +505,9 @@ table="$work/table.md"
   echo "Memory as above; the small runs are the case's lattice at 1/20 of its density (${count[Asmall]:-?} particles)."
   echo
   memory_header Asmall
-  memory_rows A Asmall "$case_a" --set "run.rotations=$rotations_a"
+  big_check=("$case_a" --set "run.rotations=$rotations_a")
+  small_check=("$case_a" --set "run.rotations=$rotations_a" --set "init.density=$density_a" --set run.max_overlap=0.5)
+  memory_rows A Asmall
 } >"$table"
 echo
 cat "$table"
