@@ -385,11 +385,11 @@ memory_rows() {  # tag small-tag; the check arguments of the two runs in big_che
       -v n_small="${count[$small]:-0}" -v branks="${rss_ranks[$small.$np]:-}" \
       -v e="$(check_mib "$np" "${big_check[@]}")" -v e0="$(check_mib "$np" "${small_check[@]}")" 'BEGIN {
         ok = base != "-" && n > n_small
-        excl = ok ? (s - base) * 1024 / (n - n_small) : 0
-        est = (ok && e != "" && e0 != "") ? (e - e0) * 1048576 / (n - n_small) : 0
-        printf "| %d | %.1f (%s) | %.0f | %s | %s | %s | %s |\n", np, mx / 1024, ranks, s * 1024 / n, branks,
-          ok ? sprintf("%.0f", excl) : "-", est > 0 ? sprintf("%.0f", est) : "-",
-          (est > 0 && excl > 0) ? sprintf("%.2f", est / excl) : "-" }'
+        excl = 0; est = 0; m = "-"; x = "-"; q = "-"
+        if (ok) { excl = (s - base) * 1024 / (n - n_small); m = sprintf("%.0f", excl) }
+        if (ok && e != "" && e0 != "") { est = (e - e0) * 1048576 / (n - n_small); x = sprintf("%.0f", est) }
+        if (est > 0 && excl > 0) q = sprintf("%.2f", est / excl)
+        printf("| %d | %.1f (%s) | %.0f | %s | %s | %s | %s |\n", np, mx / 1024, ranks, s * 1024 / n, branks, m, x, q) }'
   done
 }
 memory_header() {  # small-tag
