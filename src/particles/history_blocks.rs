@@ -314,7 +314,13 @@ mod tests {
         assert!(is_clear(&[0.0, 0.0]));
         assert!(!is_clear(&[0.0, -0.0]));
         assert!(!any_nonzero(&[-0.0, 0.0, -0.0]));
-        for x in [1e-300, -2.0, f64::NAN, f64::INFINITY, f64::MIN_POSITIVE / 4.0] {
+        for x in [
+            1e-300,
+            -2.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::MIN_POSITIVE / 4.0,
+        ] {
             assert!(any_nonzero(&[0.0, x]), "{x}");
             assert!(!is_clear(&[x, 0.0]), "{x}");
         }
