@@ -44,8 +44,12 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
     use crate::physics::materials::WALLS;
     let words = law::ContactLaw::new(case).history_words() as f64;
     // the wall histories: a block index, and a block for the particles touching a wall
-    // (about one in ten of a bed; blocks are kept for the most at once)
-    let wall = 4.0 + 0.15 * WALLS as f64 * 8.0 * words;
+    // (about one in ten of a bed; blocks are kept for the most at once); none without words
+    let wall = if words > 0.0 {
+        4.0 + 0.15 * WALLS as f64 * 8.0 * words
+    } else {
+        0.0
+    };
     let arrays = (8.0 + 8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + wall) * 17.0 / 16.0;
     // number density of the initial state: the lattice's, or a bed packed at 0.6
     let ns = case.species.len().max(1) as f64;
