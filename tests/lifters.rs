@@ -387,6 +387,51 @@ fn lifters_make_the_bed_shower() {
     assert!(with_high > 3.0 * without_high, "{report}");
 }
 
+/// Every particle touching a wall is in the near-wall list at every step, for `steps` steps
+/// of `sim`; returns how many particle-steps touched a wall (so that a test can tell that the
+/// check checked something).
+fn near_wall_list_holds(sim: &mut Sim, steps: u64) -> u64 {
+    let mut touching = 0;
+    for _ in 0..steps {
+        sim.step();
+        let missed = sim.wall_contacts_unlisted();
+        assert!(
+            missed.is_empty(),
+            "step {}: particles {missed:?} touch a wall but are not listed near one",
+            sim.step
+        );
+        touching += (0..sim.p.n_owned)
+            .filter(|&i| {
+                let reach = sim.law.wall_reach(sim.p.diameter[i] * sim.scale);
+                sim.walls.touches(sim.p.x[i], reach)
+            })
+            .count() as u64;
+    }
+    touching
+}
+
+#[test]
+fn the_near_wall_list_holds_between_builds() {
+    // lifters (listed over the annulus they sweep), caps and the curved wall, with and
+    // without contact histories; a cone and a sphere: each poured, then turned
+    for file in ["lifters.toml", "sd_capped.toml", "cone.toml", "sphere.toml"] {
+        let case = case_with(file, &[]);
+        let comm = SerialComm;
+        let (initial, scale) = initial_particles(&case, &Share::everything()).unwrap();
+        let mut sim = Sim::new(&case, &comm, &initial).unwrap();
+        pour::grow_settle_cut(&mut sim, &case, scale).unwrap();
+        let builds = sim.rebuilds;
+        let touching = near_wall_list_holds(&mut sim, 1500);
+        let builds = sim.rebuilds - builds;
+        println!("{file}: {touching} particle-steps touching a wall, {builds} builds");
+        assert!(
+            touching > 1500 * 20,
+            "{file}: {touching} particle-steps touching a wall"
+        );
+        assert!(builds > 2, "{file}: {builds} builds");
+    }
+}
+
 #[test]
 fn a_bed_in_a_cone_stays_inside_and_keeps_its_particles() {
     let case = case_with("cone.toml", &["run.rotations=0.2"]);

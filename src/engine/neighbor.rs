@@ -477,9 +477,11 @@ impl NeighborList {
     }
 
     /// List the owned mobile particles that may touch a wall before the next build (closer to
-    /// it than their reach plus `skin`: no particle moves half the skin between builds), and
-    /// clear the wall histories of the others, which touch no wall. A particle's reach is
-    /// taken at full size, so the list holds while a pour grows the particles.
+    /// it than their reach plus half the `skin`: a build comes before any particle has moved
+    /// half the skin, and the walls' shapes do not change as the drum turns, lifters aside,
+    /// which are tested over the whole annulus they sweep), and clear the wall histories of the
+    /// others, which touch no wall. A particle's reach is taken at full size, so the list
+    /// holds while a pour grows the particles.
     pub fn list_near_walls(
         &mut self,
         p: &mut Particles,
@@ -492,7 +494,7 @@ impl NeighborList {
             if is_fixed(p.species[i]) {
                 continue;
             }
-            if walls.near(p.x[i], law.wall_reach(p.diameter[i]) + skin) {
+            if walls.near(p.x[i], law.wall_reach(p.diameter[i]) + 0.5 * skin) {
                 self.near_walls.push(i as u32);
             } else {
                 p.wall_hist.clear(i);

@@ -697,6 +697,21 @@ impl<'c> Sim<'c> {
         Ok(())
     }
 
+    /// Ids of this rank's owned mobile particles that touch a wall now but are not in the list
+    /// of those near a wall (`NeighborList::near_walls`, the only ones the wall pass tests):
+    /// none, if that list holds until the next build (tests check it step by step).
+    pub fn wall_contacts_unlisted(&self) -> Vec<u64> {
+        let near: std::collections::HashSet<u32> = self.nl.near_walls.iter().copied().collect();
+        self.mobile()
+            .filter(|&i| !near.contains(&(i as u32)))
+            .filter(|&i| {
+                let reach = self.law.wall_reach(self.p.diameter[i] * self.scale);
+                self.walls.touches(self.p.x[i], reach)
+            })
+            .map(|i| self.p.id[i])
+            .collect()
+    }
+
     /// This rank's pair list (local indices, lower id first) and the axial period, for
     /// measurements that read the contacts without computing forces (`engine::thermo`).
     pub fn pair_list(&self) -> (&[(u32, u32)], Option<f64>) {
