@@ -123,12 +123,6 @@ pub const fn record_words(words: usize) -> usize {
     4 + words
 }
 
-/// Whether a pair's history words hold anything: the contacts a list saves
-/// ([`NeighborList::save_histories`]).
-fn in_use(h: &[f64]) -> bool {
-    h.iter().any(|&x| x != 0.0)
-}
-
 /// Append one saved history to a message (ids and keys as `f64`: exact below 2^53).
 pub fn push_record(buf: &mut Vec<f64>, c: &SavedContact, words: usize) {
     buf.push(c.a as f64);
@@ -516,8 +510,8 @@ impl NeighborList {
         let mut saved: SavedHistory = self
             .pairs
             .iter()
-            .zip(self.hist.iter())
-            .filter_map(|(pair, h)| h.filter(|h| in_use(h)).map(|h| (pair, h)))
+            .zip(self.hist.iter_in_use())
+            .filter_map(|(pair, h)| h.map(|h| (pair, h)))
             .map(|(&(a, b), h)| {
                 let (a, b) = (a as usize, b as usize);
                 let mut w = History::default();
@@ -540,7 +534,7 @@ impl NeighborList {
         if self.words == 0 {
             return 0;
         }
-        self.hist.iter().flatten().filter(|h| in_use(h)).count()
+        self.hist.iter_in_use().flatten().count()
     }
 
     /// Give each pair of a freshly built list its saved history (`saved` in the list's

@@ -72,7 +72,8 @@ impl HistoryBlocks {
     }
 
     /// Number of items with a block.
-    pub fn in_contact(&self) -> usize {
+    #[cfg(test)]
+    fn in_contact(&self) -> usize {
         self.slot.iter().filter(|&&s| s != NONE).count()
     }
 
@@ -169,18 +170,25 @@ impl HistoryBlocks {
         }
     }
 
-    /// Clear item `i`'s history unless every word of it compares equal to zero (a history
-    /// of `-0.0`s is left as it is, as a dense array's `if any != 0 { fill(0) }` leaves it).
+    /// Item `i`'s history if some word of it compares unequal to zero (a contact in force:
+    /// a history of `-0.0`s is not).
+    #[inline]
+    pub fn in_use(&self, i: usize) -> Option<&[f64]> {
+        self.get(i).filter(|h| any_nonzero(h))
+    }
+
+    /// Clear item `i`'s history if it is in use ([`Self::in_use`]; a history of `-0.0`s is
+    /// left as it is, as a dense array's `if any != 0 { fill(0) }` leaves it).
     pub fn clear_nonzero(&mut self, i: usize) {
-        if self.get(i).is_some_and(any_nonzero) {
+        if self.in_use(i).is_some() {
             self.give_back(i);
         }
     }
 
-    /// The items' histories, in order, `None` for those without one (nothing with no
-    /// history words).
-    pub fn iter(&self) -> impl Iterator<Item = Option<&[f64]>> + '_ {
-        (0..self.len()).map(|i| self.get(i))
+    /// Each item's history if in use ([`Self::in_use`]), in order (nothing with no history
+    /// words).
+    pub fn iter_in_use(&self) -> impl Iterator<Item = Option<&[f64]>> + '_ {
+        (0..self.len()).map(|i| self.in_use(i))
     }
 
     /// Give item `i` a block holding `h`.
@@ -199,11 +207,9 @@ impl HistoryBlocks {
         self.slot[i] = s;
     }
 
+    /// Give item `i`'s block back (its words are left: [`Self::take`] overwrites them all).
     fn give_back(&mut self, i: usize) {
-        let w = self.width;
-        let s = self.slot[i];
-        self.blocks[s as usize * w..(s as usize + 1) * w].fill(0.0);
-        self.free.push(s);
+        self.free.push(self.slot[i]);
         self.slot[i] = NONE;
     }
 
@@ -243,11 +249,6 @@ impl HistoryBlocks {
         super::trim(&mut self.slot);
         super::trim(&mut self.blocks);
         super::trim(&mut self.free);
-    }
-
-    /// Bytes held (capacity), for memory reports.
-    pub fn bytes(&self) -> usize {
-        4 * (self.slot.capacity() + self.free.capacity()) + 8 * self.blocks.capacity()
     }
 }
 
@@ -305,8 +306,12 @@ mod tests {
         h.clear_nonzero(2);
         assert!(h.get(2).is_some());
         h.set(0, &one);
+        // in use: item 0 (a nonzero word), not item 2 (a block of -0.0, kept, not in use)
+        let in_use: Vec<bool> = h.iter_in_use().map(|x| x.is_some()).collect();
+        assert_eq!(in_use, [true, false, false]);
         h.clear_nonzero(0);
-        assert_eq!(h.iter().filter(Option::is_some).count(), 1);
+        assert_eq!(h.iter_in_use().filter(Option::is_some).count(), 0);
+        assert_eq!(h.in_contact(), 1);
     }
 
     #[test]
@@ -338,6 +343,6 @@ mod tests {
         h.reset(5);
         h.select([1, 0].into_iter());
         h.truncate(1);
-        assert_eq!((h.len(), h.in_contact(), h.bytes()), (0, 0, 0));
+        assert_eq!((h.len(), h.in_contact(), h.blocks.capacity()), (0, 0, 0));
     }
 }
