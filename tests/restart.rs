@@ -179,18 +179,31 @@ fn checkpoint_with_an_id_out_of_range_is_refused() {
     let dir = tmpdir();
     let d = dir.path();
     run(1, d, "a.h5", "0.01", None);
-    let ck = d.join("a.ckpt.h5");
-    let set_id = |id: u64| {
-        let f = hdf5::File::open_rw(&ck).unwrap();
-        let ds = f.dataset("particles/id").unwrap();
-        let mut ids: Vec<u64> = ds.read_raw().unwrap();
-        ids[3] = id;
-        ds.write_raw(&ids).unwrap();
+    // each damaged checkpoint is edited in a file of its own and copied to the one restarted
+    // from: HDF5 opens files without close-on-exec, so a `tumbler` another test thread starts
+    // while the edit is open inherits the descriptor and HDF5's lock with it ("unable to lock
+    // file, errno = 11" for the restart); the copy is a new file nobody holds
+    let set_id = |id: u64, k: usize| {
+        let edited = d.join(format!("edited{k}.h5"));
+        std::fs::copy(d.join("a.ckpt.h5"), &edited).unwrap();
+        {
+            let f = hdf5::File::open_rw(&edited).unwrap();
+            let ds = f.dataset("particles/id").unwrap();
+            let mut ids: Vec<u64> = ds.read_raw().unwrap();
+            ids[3] = id;
+            ds.write_raw(&ids).unwrap();
+        }
+        let ck = d.join(format!("bad{k}.ckpt.h5"));
+        std::fs::copy(&edited, &ck).unwrap();
+        ck
     };
     let case = case_path("sd_capped.toml");
     let out = d.join("b.h5");
-    for (id, ranks) in [((1u64 << 53) + 1, 1), ((1 << 53) + 1, 2), (1 << 40, 2)] {
-        set_id(id);
+    for (k, (id, ranks)) in [((1u64 << 53) + 1, 1), ((1 << 53) + 1, 2), (1 << 40, 2)]
+        .into_iter()
+        .enumerate()
+    {
+        let ck = set_id(id, k);
         let args = [
             "run",
             case.to_str().unwrap(),
