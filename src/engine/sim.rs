@@ -327,13 +327,13 @@ impl<'c> Sim<'c> {
         self.timers
             .time(Phase::Integrate, || drift(n, dt, &mut p.x, &p.v, period));
         self.turn_drum(self.walls.omega * (self.step + 1) as f64 * dt);
-        // A non-finite position anywhere is carried by the maximum (as infinity) so that
-        // every rank stops together with the same message.
-        let moved = self.timers.time(Phase::Comm, || {
-            let m = self.nl.max_displacement(&self.p, period);
-            self.comm
-                .max_f64(if m.is_nan() { f64::INFINITY } else { m })
-        });
+        // The ranks agree on the largest displacement since the last list build while the
+        // ghosts' refresh travels, so that one wait per step serves both; the wall forces are
+        // computed then too, unless the displacement calls for a rebuild (which discards the
+        // refreshed ghosts). A non-finite position anywhere is carried by the maximum (as
+        // infinity) so that every rank stops together with the same message.
+        let sort = self.sort_every > 0 && (self.step + 1).is_multiple_of(self.sort_every);
+        let moved = self.update_ghosts_during_wall_forces(true, Some(sort));
         if moved.is_infinite() {
             // Stop at the next health check (every rank knows: the maximum is global); until
             // then nothing is rebuilt from the bad coordinates.
@@ -353,20 +353,9 @@ impl<'c> Sim<'c> {
                     self.step
                 ));
             }
-            self.update_ghosts_during_wall_forces(true);
-            self.pair_forces(true);
-            self.half_kick();
-            self.step += 1;
-            return;
-        }
-        // A hair below half the skin, so that pairs listed at exactly the list range on one
-        // rank and not on another (last-bit differences of periodic images) never touch.
-        let sort = self.sort_every > 0 && (self.step + 1).is_multiple_of(self.sort_every);
-        if 2.0 * moved > self.skin * (1.0 - 1e-9) || sort {
+        } else if rebuild_due(moved, self.skin, sort) {
             self.rebuild(sort);
             self.wall_and_body_forces(true);
-        } else {
-            self.update_ghosts_during_wall_forces(true);
         }
         self.pair_forces(true);
         self.half_kick();
@@ -394,9 +383,18 @@ impl<'c> Sim<'c> {
     /// Refresh the ghosts' positions, velocities and spins from their owners, computing the
     /// owned particles' wall forces and gravity (the first half of the force pass, which
     /// needs no ghost) while the messages travel.
-    fn update_ghosts_during_wall_forces(&mut self, advance: bool) {
+    ///
+    /// With `decide = Some(sort)`, the ranks also agree, while the messages travel, on the
+    /// largest displacement of a particle since the last list build, which is returned
+    /// (infinite if some position is not finite), and the wall forces are left out if it
+    /// calls for a rebuild ([`rebuild_due`]); with `None`, 0 is returned.
+    fn update_ghosts_during_wall_forces(&mut self, advance: bool, decide: Option<bool>) -> f64 {
         let law = self.law_advancing(advance);
-
+        let start = Instant::now();
+        let local = match decide {
+            Some(_) => self.nl.max_displacement(&self.p, self.period()),
+            None => 0.0,
+        };
         let (p, halo, slabs, comm, bufs) = (
             &mut self.p,
             &self.halo,
@@ -406,9 +404,16 @@ impl<'c> Sim<'c> {
         );
         let (walls, law, mat, g, scale) = (&self.walls, &law, &self.mat, self.gravity, self.scale);
         let near = &self.nl.near_walls;
+        let skin = self.skin;
+        let mut moved = 0.0;
         let mut wall_secs = 0.0;
-        let start = Instant::now();
         halo::update_ghosts(p, halo, slabs, comm, bufs, &mut |p| {
+            if let Some(sort) = decide {
+                moved = comm.max_f64(if local.is_nan() { f64::INFINITY } else { local });
+                if rebuild_due(moved, skin, sort) {
+                    return;
+                }
+            }
             let t0 = Instant::now();
             wall_and_body_forces(p, near, walls, law, mat, g, scale);
             wall_secs += t0.elapsed().as_secs_f64();
@@ -416,6 +421,7 @@ impl<'c> Sim<'c> {
         let total = start.elapsed().as_secs_f64();
         self.timers.add(Phase::Walls, wall_secs);
         self.timers.add(Phase::Comm, total - wall_secs);
+        moved
     }
 
     /// Turn the drum to the angle `angle`: its lifters, and the rough wall's particles
@@ -641,7 +647,7 @@ impl<'c> Sim<'c> {
     /// the predicted ones of the last step, or a pair across a slab face would be evaluated
     /// with different inputs on its two sides.
     pub fn refresh_forces(&mut self) {
-        self.update_ghosts_during_wall_forces(false);
+        self.update_ghosts_during_wall_forces(false, None);
         self.pair_forces(false);
     }
 
@@ -927,4 +933,14 @@ fn give_keys(p: &Particles, saved: &mut SavedHistory) {
         c.key_b = key_of(c.b);
     }
     sort_saved(saved);
+}
+
+/// Whether the lists must be rebuilt after the largest displacement since the last build
+/// came to `moved` (the maximum over the ranks, so that every rank decides alike): beyond a
+/// hair below half the `skin` (so that pairs listed at exactly the list range on one rank
+/// and not on another, from last-bit differences of periodic images, never touch), or when
+/// the particles are to be sorted. Never for a non-finite displacement: the run stops
+/// instead, and nothing is rebuilt from bad coordinates.
+fn rebuild_due(moved: f64, skin: f64, sort: bool) -> bool {
+    moved.is_finite() && (2.0 * moved > skin * (1.0 - 1e-9) || sort)
 }
