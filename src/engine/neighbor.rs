@@ -565,22 +565,116 @@ impl NeighborList {
         }
     }
 
-    /// Largest displacement of an owned particle since the last build.
+    /// Largest displacement of an owned particle since the last build; NaN if some
+    /// displacement is not finite.
     pub fn max_displacement(&self, p: &Particles, period: Option<f64>) -> f64 {
-        let mut m2: f64 = 0.0;
-        for (x, x0) in p.x[..p.n_owned].iter().zip(&self.x_build) {
+        let d2 = |x: &[f64; 3], x0: &[f64; 3]| {
             let dx = x[0] - x0[0];
             let dy = x[1] - x0[1];
             let mut dz = x[2] - x0[2];
             if let Some(l) = period {
                 dz = min_image(dz, l);
             }
-            let d2 = dx * dx + dy * dy + dz * dz;
+            dx * dx + dy * dy + dz * dz
+        };
+        // Lanes of running maxima and a finiteness test apart from them, so that the loop
+        // is not one chain of dependent comparisons (a maximum is the same in any order).
+        const LANES: usize = 4;
+        let n = p.n_owned.min(self.x_build.len());
+        let (x, x0) = (&p.x[..n], &self.x_build[..n]);
+        let mut m2 = [0.0f64; LANES];
+        let mut finite = true;
+        let (xc, x0c) = (x.chunks_exact(LANES), x0.chunks_exact(LANES));
+        let (xr, x0r) = (xc.remainder(), x0c.remainder());
+        for (a, b) in xc.zip(x0c) {
+            for k in 0..LANES {
+                let d = d2(&a[k], &b[k]);
+                finite &= d.is_finite();
+                m2[k] = if d > m2[k] { d } else { m2[k] };
+            }
+        }
+        for (k, (a, b)) in xr.iter().zip(x0r).enumerate() {
+            let d = d2(a, b);
+            finite &= d.is_finite();
+            m2[k] = if d > m2[k] { d } else { m2[k] };
+        }
+        if !finite {
+            return f64::NAN;
+        }
+        m2.into_iter().fold(0.0, f64::max).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The displacement as one loop in order would find it.
+    fn one_by_one(x: &[[f64; 3]], x0: &[[f64; 3]], period: Option<f64>) -> f64 {
+        let mut m2: f64 = 0.0;
+        for (a, b) in x.iter().zip(x0) {
+            let mut dz = a[2] - b[2];
+            if let Some(l) = period {
+                dz = min_image(dz, l);
+            }
+            let d2 = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + dz * dz;
             if !d2.is_finite() {
                 return f64::NAN;
             }
             m2 = m2.max(d2);
         }
         m2.sqrt()
+    }
+
+    fn with(x: Vec<[f64; 3]>, x0: Vec<[f64; 3]>) -> (Particles, NeighborList) {
+        let p = Particles {
+            n_owned: x.len(),
+            x,
+            ..Particles::default()
+        };
+        let nl = NeighborList {
+            x_build: x0,
+            ..NeighborList::default()
+        };
+        (p, nl)
+    }
+
+    #[test]
+    fn the_largest_displacement_is_found_in_every_lane_and_the_remainder() {
+        for n in 0..12 {
+            for far in 0..n {
+                let x0: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -0.25]).collect();
+                let mut x = x0.clone();
+                for (i, xi) in x.iter_mut().enumerate() {
+                    xi[0] += 1e-3 * (i % 3) as f64;
+                    xi[2] -= 1e-4 * i as f64;
+                }
+                x[far][1] += 0.25;
+                let (p, nl) = with(x.clone(), x0.clone());
+                for period in [None, Some(4.0)] {
+                    let m = nl.max_displacement(&p, period);
+                    assert_eq!(m.to_bits(), one_by_one(&x, &x0, period).to_bits());
+                    assert!(m >= 0.25, "n = {n}, far = {far}: {m}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_position_that_is_not_finite_anywhere_gives_nan() {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for n in 1..10 {
+                for at in 0..n {
+                    let x0 = vec![[0.0; 3]; n];
+                    let mut x = x0.clone();
+                    x[at][at % 3] = bad;
+                    let (p, nl) = with(x, x0);
+                    assert!(
+                        nl.max_displacement(&p, None).is_nan(),
+                        "{bad} at {at} of {n}"
+                    );
+                }
+            }
+        }
     }
 }
