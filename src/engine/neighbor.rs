@@ -504,38 +504,29 @@ impl NeighborList {
     /// pairs of each copy, so the list is not sorted there. Both copies evaluate the
     /// minimum image of the same raw coordinates and keep the same history, bit for bit.
     pub fn save_histories(&self, p: &Particles) -> SavedHistory {
-        let mut saved = SavedHistory::new();
-        self.save_histories_into(p, &mut saved);
-        saved
-    }
-
-    /// [`Self::save_histories`] into `saved` (emptied first), whose storage a caller keeps
-    /// from one build to the next: a run saves its histories at every build, and a fresh
-    /// vector of that size costs the kernel a page fault per 4 KiB at each of them.
-    pub fn save_histories_into(&self, p: &Particles, saved: &mut SavedHistory) {
-        saved.clear();
         if self.words == 0 {
-            return;
+            return SavedHistory::new();
         }
-        saved.extend(
-            self.pairs
-                .iter()
-                .zip(self.hist.iter_in_use())
-                .filter_map(|(pair, h)| h.map(|h| (pair, h)))
-                .map(|(&(a, b), h)| {
-                    let (a, b) = (a as usize, b as usize);
-                    let mut w = History::default();
-                    w[..h.len()].copy_from_slice(h);
-                    SavedContact {
-                        a: p.id[a],
-                        b: p.id[b],
-                        key_a: p.key[a],
-                        key_b: p.key[b],
-                        h: w,
-                    }
-                }),
-        );
-        sort_saved(saved);
+        let mut saved: SavedHistory = self
+            .pairs
+            .iter()
+            .zip(self.hist.iter_in_use())
+            .filter_map(|(pair, h)| h.map(|h| (pair, h)))
+            .map(|(&(a, b), h)| {
+                let (a, b) = (a as usize, b as usize);
+                let mut w = History::default();
+                w[..h.len()].copy_from_slice(h);
+                SavedContact {
+                    a: p.id[a],
+                    b: p.id[b],
+                    key_a: p.key[a],
+                    key_b: p.key[b],
+                    h: w,
+                }
+            })
+            .collect();
+        sort_saved(&mut saved);
+        saved
     }
 
     /// Number of pairs with a history ([`NeighborList::save_histories`] saves them).

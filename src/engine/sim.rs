@@ -86,9 +86,6 @@ pub struct Sim<'c> {
     pub p: Particles,
     halo: Halo,
     ghost_bufs: UpdateBuffers,
-    /// The storage of the contact histories saved at a build, kept from one build to the
-    /// next (empty between builds).
-    saved_buf: SavedHistory,
     nl: NeighborList,
     /// Steps taken since time zero.
     pub step: u64,
@@ -280,7 +277,6 @@ impl<'c> Sim<'c> {
             p,
             halo: Halo::default(),
             ghost_bufs: UpdateBuffers::default(),
-            saved_buf: SavedHistory::new(),
             nl: NeighborList::default(),
             step: 0,
             dt: case.dt(),
@@ -452,16 +448,12 @@ impl<'c> Sim<'c> {
         self.rebuild_with(saved, false, order);
     }
 
-    /// The histories of the contacts in force ([`NeighborList::save_histories`]), in the
-    /// storage the last build gave back to `saved_buf`.
-    fn saved_histories(&mut self) -> SavedHistory {
-        let mut saved = std::mem::take(&mut self.saved_buf);
+    fn saved_histories(&self) -> SavedHistory {
         if self.law.has_history() {
-            self.nl.save_histories_into(&self.p, &mut saved);
+            self.nl.save_histories(&self.p)
         } else {
-            saved.clear();
+            Vec::new()
         }
-        saved
     }
 
     /// Migrate, rebuild the halo and the pair list, giving the pairs the histories of
@@ -528,8 +520,6 @@ impl<'c> Sim<'c> {
                 nl.attach_histories(p, &saved);
             }
         });
-        saved.clear();
-        self.saved_buf = saved;
         self.rebuilds += 1;
     }
 
@@ -880,11 +870,7 @@ impl<'c> Sim<'c> {
     pub fn histories_by_ids(&self) -> SavedHistory {
         let hist_words = self.p.hist_words;
         let rec = record_words(hist_words);
-        let saved = if self.law.has_history() {
-            self.nl.save_histories(&self.p)
-        } else {
-            Vec::new()
-        };
+        let saved = self.saved_histories();
         let mine = self.to_shares(
             saved.iter(),
             rec,
