@@ -9,8 +9,11 @@ use common::case_with;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tumbler::engine::forces::Isa;
-use tumbler::engine::neighbor::{rank_of, Grid, NeighborList, SPAN};
+use tumbler::engine::neighbor::{
+    rank_of, sort_saved, Grid, NeighborList, SavedContact, SavedHistory, SPAN,
+};
 use tumbler::particles::{ParticleState, Particles};
+use tumbler::physics::contact::History;
 use tumbler::physics::rough_wall::{is_fixed, FIXED_SPECIES};
 use tumbler::physics::{ContactLaw, Materials};
 
@@ -144,4 +147,49 @@ fn build_with_a_longer_range_law() {
         "the case's law reaches no further than contact"
     );
     check(&law, &mat, d, 11);
+}
+
+#[test]
+fn histories_attached_to_a_list_are_saved_back_in_its_order() {
+    let c = case_with("cone.toml", &[]);
+    let (mat, law) = (Materials::new(&c), ContactLaw::new(&c));
+    let words = law.history_words();
+    assert!(words > 0, "the case's law keeps no history");
+    let d = c.species[0].diameter;
+    let side = 10.0 * d;
+    let p = bed(1200, 300, d, side, &mat, 5);
+    let skin = 0.3 * d;
+    let (lo, hi) = ([-d, -d, -d], [side + d, side + d, side + 4.0 * d]);
+    let mut nl = NeighborList::default();
+    nl.build(
+        &p,
+        &Grid::over(lo, hi, law.cutoff(2.0 * d, 2.0 * d) + skin),
+        skin,
+        &law,
+    );
+    // every third listed pair is a contact in force, with a history of its own
+    let mut given: SavedHistory = nl
+        .pairs
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| k % 3 == 0)
+        .map(|(k, &(a, b))| {
+            let (a, b) = (a as usize, b as usize);
+            let mut h = History::default();
+            for (w, x) in h[..words].iter_mut().enumerate() {
+                *x = (10 * k + w + 1) as f64 * 1e-7;
+            }
+            SavedContact {
+                a: p.id[a],
+                b: p.id[b],
+                key_a: p.key[a],
+                key_b: p.key[b],
+                h,
+            }
+        })
+        .collect();
+    assert!(given.len() > 500, "only {} contacts", given.len());
+    sort_saved(&mut given);
+    nl.attach_histories(&p, &given);
+    assert_eq!(nl.save_histories(&p), given);
 }
