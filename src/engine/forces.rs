@@ -1,5 +1,6 @@
-//! The force pass: each owned particle's wall contacts and gravity, then the pair contacts
-//! in canonical list order. The walls need no ghost, so the step computes them while the
+//! The force pass's second half, the pair contacts in canonical list order (the first, the
+//! walls and gravity, is `wall_pass.rs`), and the instruction sets and law types both
+//! halves are compiled for. The walls need no ghost, so the step computes them while the
 //! ghosts' messages travel; every particle still sums its forces in the same order on any
 //! number of ranks.
 
@@ -11,12 +12,12 @@ use crate::physics::contact::HISTORY_MAX;
 use crate::physics::integrate::min_image;
 use crate::physics::normal::{NormalPart, WithNormal};
 use crate::physics::rolling::{RollingPart, WithRolling};
-use crate::physics::rough_wall::is_fixed;
 use crate::physics::tangential::{TangentialPart, WithTangential};
-use crate::physics::{Body, ContactLaw, DrumWalls, Materials, V3};
+use crate::physics::{Body, ContactLaw, Materials, V3};
 
+/// Particle `i` as the scalar laws see it, its diameter times `scale`.
 #[inline]
-fn body(p: &Particles, i: usize, scale: f64) -> Body {
+pub(super) fn body(p: &Particles, i: usize, scale: f64) -> Body {
     Body {
         v: V3::from(p.v[i]),
         w: V3::from(p.w[i]),
@@ -26,7 +27,7 @@ fn body(p: &Particles, i: usize, scale: f64) -> Body {
 }
 
 /// Add the pair contacts to the forces and torques of all local particles (after
-/// [`wall_and_body_forces`]); `scale` multiplies every diameter (1 except while a pour
+/// [`wall_and_body_forces`](super::wall_pass::wall_and_body_forces)); `scale` multiplies every diameter (1 except while a pour
 /// fill grows its particles).
 ///
 /// The touching pairs are picked out of the list first, without a branch; their forces
@@ -59,20 +60,13 @@ pub fn pair_forces_with(
     if isa == Isa::Reference {
         return pair_forces_reference(p, nl, law, mat, period, scale);
     }
-    let isa = isa.min(Isa::of_cpu());
     let pass = Pass {
         mat,
         period,
         scale,
         law,
     };
-    law.normal.visit(Compose {
-        pass,
-        isa,
-        law: (),
-        p,
-        nl,
-    })
+    with_law(isa, law, PairPass { pass, p, nl })
 }
 
 /// The instruction sets the pair pass is compiled for, in increasing width. One binary
@@ -143,33 +137,9 @@ struct Pass<'a> {
 }
 
 impl Pass<'_> {
-    fn run<L: BatchLaw>(self, isa: Isa, law: &L, p: &mut Particles, nl: &mut NeighborList) {
-        match isa {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `isa` is at most what `Isa::detect` found on this CPU.
-            Isa::Avx512 => unsafe { self.run_avx512(law, p, nl) },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above.
-            Isa::Avx2 => unsafe { self.run_avx2(law, p, nl) },
-            _ => self.run_any(law, p, nl),
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn run_avx512<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
-        self.run_any(law, p, nl)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn run_avx2<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
-        self.run_any(law, p, nl)
-    }
-
     /// The pass itself, inlined into each instruction set's copy.
     #[inline(always)]
-    fn run_any<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
+    fn run<L: BatchLaw>(self, law: &L, p: &mut Particles, nl: &mut NeighborList) {
         let m = self.touching(p, nl);
         if L::WORDS > 0 {
             Self::clear_parted(nl, m);
@@ -330,35 +300,92 @@ impl Pass<'_> {
     }
 }
 
-/// A law being made a type slot by slot: the normal, tangential, rolling and cohesion
-/// models each turn themselves into a type ([`WithNormal`], [`WithTangential`],
-/// [`WithRolling`], [`WithCohesion`]), so that the composition is one monomorphised pass.
-struct Compose<'a, 'b, L> {
+/// The pair pass with its particles and list, as a [`LawPass`].
+struct PairPass<'a, 'b> {
     pass: Pass<'a>,
-    isa: Isa,
-    law: L,
     p: &'b mut Particles,
     nl: &'b mut NeighborList,
 }
 
-impl<'a, 'b> WithNormal for Compose<'a, 'b, ()> {
+impl LawPass for PairPass<'_, '_> {
+    #[inline(always)]
+    fn go<L: BatchLaw>(self, law: &L) {
+        self.pass.run(law, self.p, self.nl)
+    }
+}
+
+/// A pass over the particles that runs with the run's law made a type ([`with_law`]), so
+/// that it is compiled once per composition of the law and per instruction set.
+pub(super) trait LawPass {
+    /// Run with `law`. Implementations are `#[inline(always)]`, so that each instruction
+    /// set's copy ([`dispatch`]) compiles the whole pass with its instructions.
+    fn go<L: BatchLaw>(self, law: &L);
+}
+
+/// Run `pass` with the law `model` made a type ([`Composed`]) and the instruction set
+/// `isa` (at most what this CPU has).
+pub(super) fn with_law<P: LawPass>(isa: Isa, model: &ContactLaw, pass: P) {
+    let isa = isa.min(Isa::of_cpu());
+    model.normal.visit(Compose {
+        model,
+        isa,
+        law: (),
+        pass,
+    })
+}
+
+/// Run `pass` with `law`, compiled for `isa`.
+fn dispatch<P: LawPass, L: BatchLaw>(isa: Isa, pass: P, law: &L) {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is at most what `Isa::of_cpu` found on this CPU (`with_law`).
+        Isa::Avx512 => unsafe { go_avx512(pass, law) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Isa::Avx2 => unsafe { go_avx2(pass, law) },
+        _ => pass.go(law),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn go_avx512<P: LawPass, L: BatchLaw>(pass: P, law: &L) {
+    pass.go(law)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn go_avx2<P: LawPass, L: BatchLaw>(pass: P, law: &L) {
+    pass.go(law)
+}
+
+/// A law being made a type slot by slot: the normal, tangential, rolling and cohesion
+/// models each turn themselves into a type ([`WithNormal`], [`WithTangential`],
+/// [`WithRolling`], [`WithCohesion`]), so that the composition is one monomorphised pass.
+struct Compose<'a, P, L> {
+    model: &'a ContactLaw,
+    isa: Isa,
+    law: L,
+    pass: P,
+}
+
+impl<P: LawPass> WithNormal for Compose<'_, P, ()> {
     type Out = ();
     fn with<N: NormalPart>(self, normal: N) {
-        self.pass.law.tangential.visit(Compose {
-            pass: self.pass,
+        self.model.tangential.visit(Compose {
+            model: self.model,
             isa: self.isa,
             law: normal,
-            p: self.p,
-            nl: self.nl,
+            pass: self.pass,
         })
     }
 }
 
-impl<'a, 'b, N: NormalPart> WithTangential for Compose<'a, 'b, N> {
+impl<P: LawPass, N: NormalPart> WithTangential for Compose<'_, P, N> {
     type Out = ();
     fn with<T: TangentialPart>(self, tangential: T) {
-        self.pass.law.rolling.visit(Compose {
-            pass: self.pass,
+        self.model.rolling.visit(Compose {
+            model: self.model,
             isa: self.isa,
             law: Composed {
                 normal: self.law,
@@ -366,14 +393,13 @@ impl<'a, 'b, N: NormalPart> WithTangential for Compose<'a, 'b, N> {
                 rolling: (),
                 cohesion: (),
             },
-            p: self.p,
-            nl: self.nl,
+            pass: self.pass,
         })
     }
 }
 
-impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling
-    for Compose<'a, 'b, Composed<N, T, (), ()>>
+impl<P: LawPass, N: NormalPart, T: TangentialPart> WithRolling
+    for Compose<'_, P, Composed<N, T, (), ()>>
 {
     type Out = ();
     fn with<R: RollingPart>(self, rolling: R) {
@@ -384,18 +410,17 @@ impl<'a, 'b, N: NormalPart, T: TangentialPart> WithRolling
             rolling,
             cohesion: (),
         };
-        self.pass.law.cohesion.visit(Compose {
-            pass: self.pass,
+        self.model.cohesion.visit(Compose {
+            model: self.model,
             isa: self.isa,
             law,
-            p: self.p,
-            nl: self.nl,
+            pass: self.pass,
         })
     }
 }
 
-impl<'a, 'b, N: NormalPart, T: TangentialPart, R: RollingPart> WithCohesion
-    for Compose<'a, 'b, Composed<N, T, R, ()>>
+impl<P: LawPass, N: NormalPart, T: TangentialPart, R: RollingPart> WithCohesion
+    for Compose<'_, P, Composed<N, T, R, ()>>
 {
     type Out = ();
     fn with<C: CohesionPart>(self, cohesion: C) {
@@ -406,7 +431,7 @@ impl<'a, 'b, N: NormalPart, T: TangentialPart, R: RollingPart> WithCohesion
             rolling: l.rolling,
             cohesion,
         };
-        self.pass.run(self.isa, &law, self.p, self.nl)
+        dispatch(self.isa, self.pass, &law)
     }
 }
 
@@ -469,45 +494,6 @@ pub fn pair_forces_reference(
             p.f[b][k] -= c.force[k];
             p.t[a][k] -= ta[k];
             p.t[b][k] -= tb[k];
-        }
-    }
-}
-
-/// Zero the forces and torques of all local particles, then give the owned ones their wall
-/// forces and gravity (along `-y`). Only the particles of `near` (the list of those within
-/// reach of a wall, [`NeighborList::list_near_walls`]) are tested against the walls; the
-/// others have no wall contact until the next rebuild, and their force is gravity alone,
-/// the same bits as a wall sum of nothing plus gravity. Reads no ghost.
-pub fn wall_and_body_forces(
-    p: &mut Particles,
-    near: &[u32],
-    walls: &DrumWalls,
-    law: &ContactLaw,
-    mat: &Materials,
-    gravity: f64,
-    scale: f64,
-) {
-    for f in p.f.iter_mut() {
-        *f = [0.0; 3];
-    }
-    for t in p.t.iter_mut() {
-        *t = [0.0; 3];
-    }
-    for &i in near {
-        let i = i as usize;
-        let b = body(p, i, scale);
-        let (species, x) = (p.species[i], V3::from(p.x[i]));
-        let load = p
-            .wall_hist
-            .update(i, |h| walls.load(law, mat, species, x, &b, h));
-        for k in 0..3 {
-            p.f[i][k] += load.force[k];
-            p.t[i][k] += load.torque[k];
-        }
-    }
-    for i in 0..p.n_owned {
-        if !is_fixed(p.species[i]) {
-            p.f[i][1] -= gravity / p.inv_mass[i];
         }
     }
 }

@@ -9,6 +9,7 @@ pub mod sim;
 pub mod slabs;
 pub mod thermo;
 pub mod timers;
+pub mod wall_pass;
 
 pub use sim::{DecompositionError, Sim};
 pub use slabs::Slabs;

@@ -1,7 +1,7 @@
 //! The simulation state of one rank and the step loop.
 
 use super::balance;
-use super::forces::{pair_forces, wall_and_body_forces};
+use super::forces::pair_forces;
 use super::halo::{self, Halo, UpdateBuffers};
 use super::neighbor::{
     push_record, read_record, record_words, sort_saved, Grid, NeighborList, SavedContact,
@@ -10,6 +10,7 @@ use super::neighbor::{
 use super::order::KeyGrid;
 use super::slabs::Slabs;
 use super::timers::{Phase, Timers};
+use super::wall_pass::{wall_and_body_forces, WallForces, WallScratch};
 use crate::case::Case;
 use crate::comm::Comm;
 use crate::particles::{ParticleState, Particles, Records};
@@ -86,6 +87,8 @@ pub struct Sim<'c> {
     pub p: Particles,
     halo: Halo,
     ghost_bufs: UpdateBuffers,
+    /// The walls' pass's lists, kept between steps.
+    wall_scratch: WallScratch,
     nl: NeighborList,
     /// Steps taken since time zero.
     pub step: u64,
@@ -277,6 +280,7 @@ impl<'c> Sim<'c> {
             p,
             halo: Halo::default(),
             ghost_bufs: UpdateBuffers::default(),
+            wall_scratch: WallScratch::default(),
             nl: NeighborList::default(),
             step: 0,
             dt: case.dt(),
@@ -402,8 +406,14 @@ impl<'c> Sim<'c> {
             self.comm,
             &mut self.ghost_bufs,
         );
-        let (walls, law, mat, g, scale) = (&self.walls, &law, &self.mat, self.gravity, self.scale);
-        let near = &self.nl.near_walls;
+        let env = WallForces {
+            walls: &self.walls,
+            law: &law,
+            mat: &self.mat,
+            gravity: self.gravity,
+            scale: self.scale,
+        };
+        let (near, scratch) = (&self.nl.near_walls, &mut self.wall_scratch);
         let skin = self.skin;
         let mut moved = 0.0;
         let mut wall_secs = 0.0;
@@ -415,7 +425,7 @@ impl<'c> Sim<'c> {
                 }
             }
             let t0 = Instant::now();
-            wall_and_body_forces(p, near, walls, law, mat, g, scale);
+            wall_and_body_forces(p, near, scratch, &env);
             wall_secs += t0.elapsed().as_secs_f64();
         });
         let total = start.elapsed().as_secs_f64();
@@ -536,16 +546,16 @@ impl<'c> Sim<'c> {
     /// The first half of the force pass: forces zeroed, then the walls and gravity.
     fn wall_and_body_forces(&mut self, advance: bool) {
         let law = self.law_advancing(advance);
-        let (p, walls, mat, g, scale) = (
-            &mut self.p,
-            &self.walls,
-            &self.mat,
-            self.gravity,
-            self.scale,
-        );
-        let near = &self.nl.near_walls;
+        let env = WallForces {
+            walls: &self.walls,
+            law: &law,
+            mat: &self.mat,
+            gravity: self.gravity,
+            scale: self.scale,
+        };
+        let (p, near, scratch) = (&mut self.p, &self.nl.near_walls, &mut self.wall_scratch);
         self.timers.time(Phase::Walls, || {
-            wall_and_body_forces(p, near, walls, &law, mat, g, scale)
+            wall_and_body_forces(p, near, scratch, &env)
         });
     }
 

@@ -148,6 +148,27 @@ impl HistoryBlocks {
         }
     }
 
+    /// Item `i`'s history to write, given a block of zeros if it has none (for a pass that
+    /// writes it piece by piece; [`Self::release_if_clear`] afterwards gives the block back
+    /// if it ends all zero). Not for a law without history words.
+    #[inline]
+    pub fn hold(&mut self, i: usize) -> &mut [f64] {
+        let w = self.width;
+        if self.slot[i] == NONE {
+            self.take(i, &[0.0; WIDTH_MAX][..w]);
+        }
+        let s = self.slot[i] as usize;
+        &mut self.blocks[s * w..(s + 1) * w]
+    }
+
+    /// Give item `i`'s block back if its history is all zero ([`Self::hold`]).
+    #[inline]
+    pub fn release_if_clear(&mut self, i: usize) {
+        if self.width > 0 && self.slot[i] != NONE && is_clear(self.get(i).unwrap_or(&[])) {
+            self.give_back(i);
+        }
+    }
+
     /// Make item `i`'s history `h` ([`Self::width`] words).
     #[inline]
     pub fn set(&mut self, i: usize, h: &[f64]) {

@@ -3,7 +3,8 @@
 //! The pair pass (`engine/forces.rs`) first picks out the listed pairs that touch, then hands
 //! them to these kernels [`LANES`] at a time in struct-of-arrays form ([`Batch`]). Each lane
 //! performs exactly the IEEE operations, in the same order, of the scalar laws of
-//! [`super::ContactLaw`] (which stays the reference, and serves the walls): their branches become selects whose other side is computed and discarded, so the
+//! [`super::ContactLaw`] (which stays the reference): their branches become selects whose
+//! other side is computed and discarded, so the
 //! loops over the lanes have no branch and the compiler vectorises them. Rust never
 //! contracts `a * b + c` into a fused multiply-add nor uses approximate reciprocals, and
 //! IEEE division and square root are correctly rounded in every width, so a lane gives the
@@ -12,7 +13,8 @@
 //!
 //! A law is a type implementing [`BatchLaw`], chosen once per force pass from the run's
 //! [`ContactLaw`](super::ContactLaw), so the inner loop is monomorphised: no dispatch per
-//! contact. A law is composed ([`Composed`]) of a normal part ([`NormalPart`]), a
+//! contact. The same law evaluates batches of wall contacts ([`BatchLaw::eval_walls`],
+//! `wall_batch.rs`). A law is composed ([`Composed`]) of a normal part ([`NormalPart`]), a
 //! tangential part ([`TangentialPart`]), rolling resistance and cohesion, each a small
 //! type with one inlined lane function; Rapaport's law is one such composition.
 
@@ -21,6 +23,7 @@ use super::contact::HISTORY_MAX;
 use super::normal::NormalPart;
 use super::rolling::{inv_inertia_at_surface, NoRolling, RollingPart};
 use super::tangential::TangentialPart;
+use super::wall_batch::WallBatch;
 
 /// Pairs per batch: one AVX-512 register of `f64`, two of AVX2, four of SSE2.
 pub const LANES: usize = 8;
@@ -109,6 +112,9 @@ pub trait BatchLaw: Copy {
     /// Evaluate every lane of `b`: `b.force`, `b.torque_a`, `b.torque_b` and, with a
     /// history, `b.hist`.
     fn eval(&self, b: &mut Batch);
+    /// Evaluate every lane of the wall contacts `b`: `b.force`, `b.torque`, `b.roll` (with
+    /// rolling resistance) and, with a history, `b.hist`.
+    fn eval_walls(&self, b: &mut WallBatch);
 }
 
 /// The inputs of one lane, as the scalar laws see them.
@@ -303,5 +309,10 @@ impl<N: NormalPart, T: TangentialPart, R: RollingPart, C: CohesionPart> BatchLaw
                 }
             }
         }
+    }
+
+    #[inline(always)]
+    fn eval_walls(&self, b: &mut WallBatch) {
+        super::wall_batch::eval(self, b)
     }
 }

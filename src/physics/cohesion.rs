@@ -76,6 +76,8 @@ pub trait CohesionPart: Copy {
     /// Attraction (along `-n`) of bodies of radii `ra`, `rb` at distance `rr`, energy density
     /// `k_c`.
     fn lane(&self, k_c: f64, ra: f64, rb: f64, rr: f64) -> f64;
+    /// Attraction (along `-n`) of a body of radius `ra` to a wall at distance `rr`.
+    fn wall_lane(&self, k_c: f64, ra: f64, rr: f64) -> f64;
 }
 
 /// No cohesion (`CohesionLaw::None`).
@@ -87,6 +89,11 @@ impl CohesionPart for NoCohesion {
 
     #[inline(always)]
     fn lane(&self, _k_c: f64, _ra: f64, _rb: f64, _rr: f64) -> f64 {
+        0.0
+    }
+
+    #[inline(always)]
+    fn wall_lane(&self, _k_c: f64, _ra: f64, _rr: f64) -> f64 {
         0.0
     }
 }
@@ -101,5 +108,10 @@ impl CohesionPart for SjkrCohesion {
     #[inline(always)]
     fn lane(&self, k_c: f64, ra: f64, rb: f64, rr: f64) -> f64 {
         k_c * contact_area(ra, Some(rb), rr)
+    }
+
+    #[inline(always)]
+    fn wall_lane(&self, k_c: f64, ra: f64, rr: f64) -> f64 {
+        k_c * contact_area(ra, None, rr)
     }
 }

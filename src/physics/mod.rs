@@ -12,6 +12,7 @@ pub mod rapaport;
 pub mod rolling;
 pub mod rough_wall;
 pub mod tangential;
+pub mod wall_batch;
 pub mod walls;
 
 pub use contact::{Body, Contact};

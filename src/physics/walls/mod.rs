@@ -43,6 +43,9 @@ pub struct Touch {
 /// The slots of a vessel's surfaces, in the order of the force sum.
 pub const VESSEL_SLOTS: [Wall; 3] = [Wall::Curved, Wall::CapLow, Wall::CapHigh];
 
+/// Every wall history slot, in the order of the force sum: the vessel's, then the lifters'.
+pub const WALL_SLOTS: [Wall; WALLS] = [Wall::Curved, Wall::CapLow, Wall::CapHigh, Wall::Lifter];
+
 /// The drum body: its surfaces and its interior. Angles do not matter to a vessel (it is a
 /// body of revolution about `z`); what turns with the drum is its wall velocity.
 pub trait Vessel: std::fmt::Debug + Send + Sync {
@@ -172,12 +175,18 @@ impl DrumWalls {
 
     /// Whether a particle of wall reach `reach` centred at `x` touches a wall now.
     pub fn touches(&self, x: [f64; 3], reach: f64) -> bool {
-        let v = V3::from(x);
-        self.vessel.contacts(v, reach).iter().any(Option::is_some)
-            || self
-                .lifters
-                .as_ref()
-                .is_some_and(|l| l.contact(v, reach).is_some())
+        self.contacts(V3::from(x), reach)
+            .iter()
+            .any(Option::is_some)
+    }
+
+    /// The wall points within `reach` of a particle centred at `x`, one per slot of
+    /// [`WALL_SLOTS`] (`None` where out of reach, and for the lifters of a drum without).
+    #[inline]
+    pub fn contacts(&self, x: V3, reach: f64) -> [Option<Touch>; WALLS] {
+        let [curved, low, high] = self.vessel.contacts(x, reach);
+        let lifter = self.lifters.as_ref().and_then(|l| l.contact(x, reach));
+        [curved, low, high, lifter]
     }
 
     /// Whether a sphere of radius `margin` at `x` is inside the walls (clear of the lifters
@@ -281,14 +290,9 @@ impl DrumWalls {
             }
             None => hist.fill(0.0),
         };
-        let slot = |k: usize| k * words..(k + 1) * words;
-        let found = self.vessel.contacts(x, reach);
-        for (wall, t) in VESSEL_SLOTS.into_iter().zip(found) {
-            touch(wall, t, &mut hist[slot(wall as usize)]);
-        }
-        if let Some(l) = &self.lifters {
-            let k = Wall::Lifter as usize;
-            touch(Wall::Lifter, l.contact(x, reach), &mut hist[slot(k)]);
+        let found = self.contacts(x, reach);
+        for (k, (wall, t)) in WALL_SLOTS.into_iter().zip(found).enumerate() {
+            touch(wall, t, &mut hist[k * words..(k + 1) * words]);
         }
         out
     }
