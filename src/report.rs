@@ -17,7 +17,8 @@ pub struct MemoryEstimate {
     /// sixteenth of room `Particles::trim` leaves; a ghost's too.
     pub arrays: f64,
     /// Pairs listed per particle (half the neighbours within the list's range, at the
-    /// initial state's number density).
+    /// number density of a bed packed at 0.6, or of the initial lattice if denser or if the
+    /// run ends before the lattice can settle).
     pub pairs: f64,
     /// Bytes of the neighbour list per particle: its pairs (indices, contact distance, the
     /// pass's touching index, the history's block index and, for those touching, its
@@ -51,13 +52,17 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
         0.0
     };
     let arrays = (8.0 + 8.0 + 1.0 + 3.0 * 8.0 + 5.0 * 24.0 + 8.0 + wall) * 17.0 / 16.0;
-    // number density of the initial state: the lattice's, or a bed packed at 0.6
+    // number density of a bed packed at 0.6; a lattice keeps its own, unless it is looser and
+    // the run lasts longer than a fall across the drum, so that it settles into such a bed
+    // (whose pairs the lists then hold)
     let ns = case.species.len().max(1) as f64;
     let d = case.species.iter().map(|s| s.diameter).sum::<f64>() / ns;
     let d = if d.is_finite() && d > 0.0 { d } else { 1.0 };
+    let bed = 0.6 / (std::f64::consts::PI / 6.0 * d * d * d);
     let density = match (case.init.kind, case.init.density) {
+        (InitKind::Lattice, Some(rho)) if lattice_settles(case) => rho.max(bed),
         (InitKind::Lattice, Some(rho)) => rho,
-        _ => 0.6 / (std::f64::consts::PI / 6.0 * d * d * d),
+        _ => bed,
     };
     let range = law::ContactLaw::new(case).cutoff(d, d) + case.skin();
     let pairs = 0.5 * density * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
@@ -96,6 +101,15 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
         list,
         gather,
     }
+}
+
+/// Whether a run of `case` lasts longer than a fall from rest across the drum under its
+/// gravity, `sqrt(2 D / g)`: time for a lattice to settle into a bed.
+fn lattice_settles(case: &Case) -> bool {
+    let dt = case.dt();
+    let steps = crate::run::steps_for(case.run.rotations, case.drum.omega, dt) as f64;
+    let fall = (2.0 * case.drum.diameter / case.model.gravity).sqrt();
+    steps * dt > fall
 }
 
 /// `h m s` form of a duration in seconds.

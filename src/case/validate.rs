@@ -16,8 +16,8 @@ pub const STEPS_PER_ROTATION_MIN: f64 = 20.0;
 /// (`run.dt = 1e-300`, `run.rotations = 1e30`), not a plan.
 pub const STEPS_MAX: f64 = 1e12;
 
-/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 3e7
-/// particles at `report::memory_estimate`'s bytes per particle (about 550 without contact
+/// Most memory the initial state may take on one rank, in bytes: 16 GiB, about 2.4e7
+/// particles at `report::memory_estimate`'s bytes per particle (about 700 without contact
 /// histories; the largest case of cases/ has 9e4).
 /// Each rank makes only its own slab's part. Checked by [`initial_memory`] on the estimate
 /// of [`estimated_particles`] before anything is allocated.
