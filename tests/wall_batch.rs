@@ -16,9 +16,10 @@ use tumbler::physics::rolling::RollingLaw;
 use tumbler::physics::tangential::TangentialLaw;
 use tumbler::physics::{ContactLaw, DrumWalls, Materials, V3};
 
+mod common;
+
 fn case(name: &str) -> tumbler::case::Case {
-    let path = format!("{}/tests/cases/{name}", env!("CARGO_MANIFEST_DIR"));
-    tumbler::case::parse_case(&std::fs::read_to_string(path).unwrap(), name).unwrap()
+    common::case_with(name, &[])
 }
 
 /// A case's materials with rolling friction and cohesion, against each other and the walls,

@@ -254,14 +254,7 @@ impl Pass<'_> {
             b.db[l] = p.diameter[c] * self.scale;
             b.ima[l] = p.inv_mass[a];
             b.imb[l] = p.inv_mass[c];
-            b.gamma_s[l] = fr.gamma_s;
-            b.mu[l] = fr.mu;
-            b.mu_roll[l] = fr.mu_roll;
-            b.cohesion[l] = fr.cohesion;
-            if L::PAIR_NORMAL {
-                b.normal_k[l] = fr.normal_k;
-                b.normal_c[l] = fr.normal_c;
-            }
+            b.coef.load::<L>(l, &fr);
             match nl.hist.get(k as usize) {
                 Some(h) => {
                     for (q, &h) in h.iter().enumerate() {

@@ -233,14 +233,7 @@ fn gather<L: BatchLaw>(env: &WallForces, b: &mut WallBatch, chunk: &[WallTouch],
         b.d_iw[l] = env.law.normal.wall_contact(d);
         b.im[l] = p.inv_mass[i];
         let fr = env.mat.wall(p.species[i], WALL_SLOTS[c.slot as usize]);
-        b.gamma_s[l] = fr.gamma_s;
-        b.mu[l] = fr.mu;
-        b.mu_roll[l] = fr.mu_roll;
-        b.cohesion[l] = fr.cohesion;
-        if L::PAIR_NORMAL {
-            b.normal_k[l] = fr.normal_k;
-            b.normal_c[l] = fr.normal_c;
-        }
+        b.coef.load::<L>(l, &fr);
         if words > 0 {
             // held in a block by the first stage
             let h = p

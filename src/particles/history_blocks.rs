@@ -164,7 +164,7 @@ impl HistoryBlocks {
     /// Give item `i`'s block back if its history is all zero ([`Self::hold`]).
     #[inline]
     pub fn release_if_clear(&mut self, i: usize) {
-        if self.width > 0 && self.slot[i] != NONE && is_clear(self.get(i).unwrap_or(&[])) {
+        if self.get(i).is_some_and(is_clear) {
             self.give_back(i);
         }
     }

@@ -21,6 +21,7 @@
 use super::cohesion::{CohesionPart, NoCohesion};
 use super::contact::HISTORY_MAX;
 use super::normal::NormalPart;
+use super::rapaport::Friction;
 use super::rolling::{inv_inertia_at_surface, NoRolling, RollingPart};
 use super::tangential::TangentialPart;
 use super::wall_batch::WallBatch;
@@ -53,19 +54,8 @@ pub struct Batch {
     pub ima: Col,
     /// `1/m` of `b` (0 for a particle of a rough wall).
     pub imb: Col,
-    /// Sliding friction coefficient `gamma_s` of the pair's materials.
-    pub gamma_s: Col,
-    /// Static friction coefficient `mu` of the pair's materials.
-    pub mu: Col,
-    /// Rolling friction coefficient `mu_r` of the pair's materials.
-    pub mu_roll: Col,
-    /// Cohesion energy density `k_c` of the pair's materials.
-    pub cohesion: Col,
-    /// The pair's normal stiffness coefficient (`Friction::normal_k`; loaded only for a law
-    /// of per-pair normal coefficients, [`BatchLaw::PAIR_NORMAL`]).
-    pub normal_k: Col,
-    /// The pair's normal damping coefficient (`Friction::normal_c`; likewise).
-    pub normal_c: Col,
+    /// The coefficients of the pair's materials.
+    pub coef: Coefficients,
     /// History words (the first [`BatchLaw::WORDS`] read and written).
     pub hist: [Col; HISTORY_MAX],
     /// Force on `a` (`b` receives its negative).
@@ -89,16 +79,60 @@ impl Default for Batch {
             db: one,
             ima: one,
             imb: one,
-            gamma_s: z,
-            mu: z,
-            mu_roll: z,
-            cohesion: z,
-            normal_k: one,
-            normal_c: z,
+            coef: Coefficients::default(),
             hist: [z; HISTORY_MAX],
             force: [z; 3],
             torque_a: [z; 3],
             torque_b: [z; 3],
+        }
+    }
+}
+
+/// The contact coefficients of a batch's lanes (a pair's or a wall contact's
+/// [`Friction`]), one column each.
+#[derive(Debug, Clone)]
+pub struct Coefficients {
+    /// Sliding friction coefficient `gamma_s`.
+    pub gamma_s: Col,
+    /// Static friction coefficient `mu`.
+    pub mu: Col,
+    /// Rolling friction coefficient `mu_r`.
+    pub mu_roll: Col,
+    /// Cohesion energy density `k_c`.
+    pub cohesion: Col,
+    /// Normal stiffness coefficient (`Friction::normal_k`; loaded only for a law of
+    /// per-pair normal coefficients, [`BatchLaw::PAIR_NORMAL`]).
+    pub normal_k: Col,
+    /// Normal damping coefficient (`Friction::normal_c`; likewise).
+    pub normal_c: Col,
+}
+
+impl Default for Coefficients {
+    fn default() -> Self {
+        let z = [0.0; LANES];
+        Coefficients {
+            gamma_s: z,
+            mu: z,
+            mu_roll: z,
+            cohesion: z,
+            normal_k: [1.0; LANES],
+            normal_c: z,
+        }
+    }
+}
+
+impl Coefficients {
+    /// Lane `l`'s coefficients from `fr`, the normal ones only for a law `L` of per-pair
+    /// normal coefficients.
+    #[inline(always)]
+    pub fn load<L: BatchLaw>(&mut self, l: usize, fr: &Friction) {
+        self.gamma_s[l] = fr.gamma_s;
+        self.mu[l] = fr.mu;
+        self.mu_roll[l] = fr.mu_roll;
+        self.cohesion[l] = fr.cohesion;
+        if L::PAIR_NORMAL {
+            self.normal_k[l] = fr.normal_k;
+            self.normal_c[l] = fr.normal_c;
         }
     }
 }
@@ -149,12 +183,12 @@ impl Batch {
             db: self.db[l],
             ima: self.ima[l],
             imb: self.imb[l],
-            gamma_s: self.gamma_s[l],
-            mu: self.mu[l],
-            mu_roll: self.mu_roll[l],
-            cohesion: self.cohesion[l],
-            normal_k: self.normal_k[l],
-            normal_c: self.normal_c[l],
+            gamma_s: self.coef.gamma_s[l],
+            mu: self.coef.mu[l],
+            mu_roll: self.coef.mu_roll[l],
+            cohesion: self.coef.cohesion[l],
+            normal_k: self.coef.normal_k[l],
+            normal_c: self.coef.normal_c[l],
         }
     }
 

@@ -11,7 +11,7 @@
 //! `(d_iw) w x n` (Rapaport: `w x r'_iw`, as printed). The same bits as the scalar law on
 //! every instruction set (`tests/contact_batch.rs`).
 
-use super::batch::{cross, dot, scale, Col, Composed, LANES};
+use super::batch::{cross, dot, scale, Coefficients, Col, Composed, LANES};
 use super::cohesion::CohesionPart;
 use super::contact::HISTORY_MAX;
 use super::normal::NormalPart;
@@ -37,19 +37,8 @@ pub struct WallBatch {
     pub d_iw: Col,
     /// Its `1/m`.
     pub im: Col,
-    /// Sliding friction coefficient `gamma_s` of the particle and the wall.
-    pub gamma_s: Col,
-    /// Static friction coefficient `mu`.
-    pub mu: Col,
-    /// Rolling friction coefficient `mu_r`.
-    pub mu_roll: Col,
-    /// Cohesion energy density `k_c`.
-    pub cohesion: Col,
-    /// Normal stiffness coefficient (loaded only for
-    /// [`BatchLaw::PAIR_NORMAL`](super::batch::BatchLaw::PAIR_NORMAL)).
-    pub normal_k: Col,
-    /// Normal damping coefficient (likewise).
-    pub normal_c: Col,
+    /// The coefficients of the particle's material against the wall.
+    pub coef: Coefficients,
     /// The drum's angular velocity about `+z` (the wall's spin, for rolling resistance).
     pub omega: f64,
     /// History words (the first [`BatchLaw::WORDS`](super::batch::BatchLaw::WORDS) read and
@@ -74,12 +63,7 @@ impl Default for WallBatch {
             d: one,
             d_iw: [0.5; LANES],
             im: one,
-            gamma_s: z,
-            mu: z,
-            mu_roll: z,
-            cohesion: z,
-            normal_k: one,
-            normal_c: z,
+            coef: Coefficients::default(),
             omega: 0.0,
             hist: [z; HISTORY_MAX],
             force: [z; 3],
@@ -108,9 +92,15 @@ pub(super) fn eval<N: NormalPart, T: TangentialPart, R: RollingPart, C: Cohesion
         };
         let m_eff = 1.0 / im;
         let vn = dot(n, v);
-        let (f_n, k_n, dash) =
-            law.normal
-                .lane(rr, d_iw, vn, m_eff, d_iw, b.normal_k[l], b.normal_c[l]);
+        let (f_n, k_n, dash) = law.normal.lane(
+            rr,
+            d_iw,
+            vn,
+            m_eff,
+            d_iw,
+            b.coef.normal_k[l],
+            b.coef.normal_c[l],
+        );
         // the particle's surface point at the contact moves with v - (d/2) w x n
         let lever = if N::DIVIDES {
             cross(w, r)
@@ -123,9 +113,16 @@ pub(super) fn eval<N: NormalPart, T: TangentialPart, R: RollingPart, C: Cohesion
             v[2] - n[2] * vn - lever[2],
         ];
         let mut h = [b.hist[0][l], b.hist[1][l], b.hist[2][l]];
-        let f_s = law
-            .tangential
-            .lane(n, v_s, f_n, k_n, dash, b.gamma_s[l], b.mu[l], &mut h);
+        let f_s = law.tangential.lane(
+            n,
+            v_s,
+            f_n,
+            k_n,
+            dash,
+            b.coef.gamma_s[l],
+            b.coef.mu[l],
+            &mut h,
+        );
         if T::WORDS > 0 {
             for (k, hk) in h.iter().enumerate() {
                 b.hist[k][l] = *hk;
@@ -138,7 +135,7 @@ pub(super) fn eval<N: NormalPart, T: TangentialPart, R: RollingPart, C: Cohesion
             let inv_ir = inv_inertia_at_surface(im, d);
             let t = law
                 .rolling
-                .lane(n, w_rel, f_n, k_n, d_iw, inv_ir, b.mu_roll[l], &mut h);
+                .lane(n, w_rel, f_n, k_n, d_iw, inv_ir, b.coef.mu_roll[l], &mut h);
             if R::WORDS > 0 {
                 for (k, hk) in h.iter().enumerate() {
                     b.hist[o + k][l] = *hk;
@@ -149,7 +146,7 @@ pub(super) fn eval<N: NormalPart, T: TangentialPart, R: RollingPart, C: Cohesion
             }
         }
         let f_tot = if C::ACTIVE {
-            f_n - law.cohesion.wall_lane(b.cohesion[l], d_iw, rr)
+            f_n - law.cohesion.wall_lane(b.coef.cohesion[l], d_iw, rr)
         } else {
             f_n
         };
