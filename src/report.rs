@@ -25,6 +25,10 @@ pub struct MemoryEstimate {
     /// words), their capacity grown by doubling (half again on average), and the build
     /// positions and near-wall indices.
     pub list: f64,
+    /// Bytes the neighbour build keeps per local particle, owned or ghost, besides the list
+    /// ([`SCRATCH_BYTES`](crate::engine::neighbor::SCRATCH_BYTES): the cell sort, the order
+    /// of rank and the search's slots).
+    pub scratch: f64,
     /// Bytes per particle of the largest transient that goes with the particles: a
     /// checkpoint's particles in id order (each particle's packed record, sent once and, on
     /// more than one rank, half a share's received from the others; the sort's index or the
@@ -34,9 +38,9 @@ pub struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
-    /// Bytes per owned particle, all told (ghosts and window sums aside).
+    /// Bytes per owned particle, all told (ghosts, the cell grid and window sums aside).
     pub fn per_particle(&self) -> f64 {
-        self.arrays + self.list + self.gather
+        self.arrays + self.list + self.scratch + self.gather
     }
 }
 
@@ -99,7 +103,31 @@ pub fn memory_estimate(case: &Case, ranks: usize) -> MemoryEstimate {
         arrays,
         pairs,
         list,
+        scratch: crate::engine::neighbor::SCRATCH_BYTES as f64,
         gather,
+    }
+}
+
+/// Bytes of one rank's cell grid during a list build, at most: cells of a `SPAN`-th of the
+/// reach over the drum's square section and the rank's slab with its halo (the grid covers
+/// the particles' bounding box, so a lattice that fills the drum takes all of it; a bed,
+/// less), [`CELL_BYTES`](crate::engine::neighbor::CELL_BYTES) each.
+pub fn cell_grid_bytes(case: &Case, ranks: usize) -> f64 {
+    use crate::engine::neighbor::{CELL_BYTES, SPAN};
+    let reach = law::reach(case);
+    let cell = reach / SPAN as f64;
+    let halo = if ranks > 1 || case.drum.periodic() {
+        2.0 * reach
+    } else {
+        0.0
+    };
+    let along = case.drum.axial_length() / ranks.max(1) as f64 + halo;
+    let count = |span: f64| (span / cell).floor().max(1.0);
+    let cells = count(case.drum.diameter).powi(2) * count(along);
+    if cells.is_finite() {
+        cells * CELL_BYTES as f64
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -161,7 +189,9 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     };
     let est = memory_estimate(case, ranks);
     let share = n as f64 / ranks as f64;
-    let persistent = share * (est.arrays + est.list) + ghosts_per_rank * est.arrays;
+    let persistent = share * (est.arrays + est.list + est.scratch)
+        + ghosts_per_rank * (est.arrays + est.scratch)
+        + cell_grid_bytes(case, ranks);
     // the window sums (the diagnostics line below): rank 0 holds the field sums and its block
     // of the per-slice sums, another rank its block; their pages are committed only where
     // the bed reached, about half
@@ -266,11 +296,13 @@ pub fn check_report(case: &Case, ranks: usize) -> Result<String, String> {
     );
     let _ = writeln!(
         out,
-        "               per particle: {:.0} B of arrays, {:.0} B of neighbour list ({:.1} pairs), {:.0} B gathered in id order for a checkpoint; {:.1} MiB of window sums on rank 0 (half of those below: the bins a bed reaches)",
+        "               per particle: {:.0} B of arrays, {:.0} B of neighbour list ({:.1} pairs) and {:.0} B of its build, {:.0} B gathered in id order for a checkpoint; {:.1} MiB of cells per rank at most; {:.1} MiB of window sums on rank 0 (half of those below: the bins a bed reaches)",
         est.arrays,
         est.list,
         est.pairs,
+        est.scratch,
         est.gather,
+        mib(cell_grid_bytes(case, ranks)),
         mib(sums_rank0)
     );
     let g = &case.diagnostics;

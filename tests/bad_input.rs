@@ -435,9 +435,10 @@ fn a_step_count_that_does_not_fit_is_refused() {
 
 #[test]
 fn a_huge_initial_state_is_refused_before_it_is_built() {
-    // 1.4e8 lattice sites: 89 GiB on one rank (report::memory_estimate, its pairs those of
-    // the bed the lattice settles into), refused at once by check and run on one rank,
-    // nothing allocated; the case itself is fine, for 7 ranks or more
+    // 1.4e8 lattice sites: 104 GiB on one rank (report::memory_estimate, its pairs those of
+    // the bed the lattice settles into, and the list build's cells), refused at once by
+    // check and run on one rank, nothing allocated; the case itself is fine, for 8 ranks or
+    // more
     let on = |file: &str, overrides: &[&str], ranks: usize| -> Option<String> {
         let text = std::fs::read_to_string(case_path(file)).unwrap();
         let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
@@ -451,13 +452,13 @@ fn a_huge_initial_state_is_refused_before_it_is_built() {
     expect(
         &m,
         &[
-            "init.density: the initial state would hold about 1.361e8 particles, 89 GiB on each of 1 ranks",
+            "init.density: the initial state would hold about 1.361e8 particles, 104 GiB on each of 1 ranks",
             "at most 16 GiB",
-            "run it on at least 7 ranks",
+            "run it on at least 8 ranks",
         ],
     );
-    assert!(on("periodic.toml", &long, 6).is_some());
-    assert_eq!(on("periodic.toml", &long, 7), None);
+    assert!(on("periodic.toml", &long, 7).is_some());
+    assert_eq!(on("periodic.toml", &long, 8), None);
     let m = on("sphere.toml", &["drum.diameter=3.0"], 1).expect("refused on 1 rank");
     expect(&m, &["init.fill: the initial state would hold", "GiB"]);
     // a state that no rank count can hold is refused with the case itself
@@ -495,6 +496,60 @@ fn a_huge_initial_state_is_refused_before_it_is_built() {
         );
     }
     assert!(t.elapsed().as_secs_f64() < 10.0, "{:?}", t.elapsed());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn a_sparse_bed_in_a_wide_drum_is_refused_before_its_cells_are_made() {
+    // a few hundred particles spread over a drum 1e5 diameters across: the list build's
+    // cells over their bounding box would take hundreds of GiB (the run would abort on the
+    // allocation); refused with the case, by check and by run, nothing written
+    let wide = [
+        "drum.diameter=1e5",
+        "init.density=1e-9",
+        "model.gravity=1e-6",
+    ];
+    let m = with_on("periodic.toml", &wide);
+    expect(
+        &m,
+        &[
+            "drum.diameter: a drum 100000 across is",
+            "neighbour cells across",
+            "at most 16 GiB per rank is accepted: make the drum smaller or the particles larger",
+        ],
+    );
+    // wide enough for one rank's cells only: more ranks are the remedy
+    let on_one = |overrides: &[&str]| {
+        let text = std::fs::read_to_string(case_path("periodic.toml")).unwrap();
+        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let lc = tumbler::case::load_text(&text, &ov, "periodic.toml").unwrap();
+        tumbler::case::initial_memory(&lc.case, 1)
+            .err()
+            .map(|e| e.to_string())
+    };
+    let m = on_one(&[
+        "drum.diameter=1e4",
+        "init.density=1e-7",
+        "model.gravity=1e-5",
+    ])
+    .expect("refused on 1 rank");
+    expect(
+        &m,
+        &["drum.diameter: a drum 10000 across", "run it on more ranks"],
+    );
+    let dir = tmpdir();
+    let case = case_path("periodic.toml");
+    let out = dir.path().join("o.h5");
+    let mut args = vec!["run", case.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    for w in &wide {
+        args.extend(["--set", w]);
+    }
+    let o = tumbler(&args);
+    assert_eq!(o.status.code(), Some(2));
+    expect(
+        &String::from_utf8_lossy(&o.stderr),
+        &["drum.diameter: a drum"],
+    );
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 

@@ -1106,8 +1106,9 @@ fn most_ranks(case: &Case) -> usize {
 pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
     let n = estimated_particles(case);
     let per_particle = crate::report::memory_estimate(case, ranks).per_particle();
+    let cells = crate::report::cell_grid_bytes(case, ranks);
     let ranks = ranks.max(1) as f64;
-    let bytes = n * per_particle / ranks;
+    let bytes = n * per_particle / ranks + cells;
     if at_most(bytes, INITIAL_MEMORY_MAX) {
         return Ok(());
     }
@@ -1118,9 +1119,37 @@ pub fn initial_memory(case: &Case, ranks: usize) -> Result<(), CaseError> {
             "more than 1e299 GiB".into()
         }
     };
+    if cells > n * per_particle / ranks {
+        // a sparse bed in a wide drum: the list build's cells, not the particles
+        let cell = crate::physics::law::reach(case) / crate::engine::neighbor::SPAN as f64;
+        let most = most_ranks(case);
+        let remedy = if at_most(
+            crate::report::cell_grid_bytes(case, most),
+            INITIAL_MEMORY_MAX,
+        ) {
+            "run it on more ranks, or make the drum smaller or the particles larger"
+        } else {
+            "make the drum smaller or the particles larger"
+        };
+        return Err(CaseError::new(
+            "drum.diameter",
+            format!(
+                "a drum {} across is {} neighbour cells across (cells of {}, half the reach of the largest pair plus the skin): the list build's cells would take {} on each of {ranks:.0} ranks, for about {} particles; at most {:.0} GiB per rank is accepted: {remedy}",
+                given(case.drum.diameter),
+                derived(case.drum.diameter / cell),
+                derived(cell),
+                gib(cells),
+                derived(n),
+                INITIAL_MEMORY_MAX / (1u64 << 30) as f64,
+            ),
+        ));
+    }
     // on more than one rank a particle costs a little more (the gather's exchange)
     let per_many = crate::report::memory_estimate(case, 2).per_particle();
-    let needed = (n * per_many / INITIAL_MEMORY_MAX).ceil().max(2.0);
+    let all_cells = crate::report::cell_grid_bytes(case, 1);
+    let needed = ((n * per_many + all_cells) / INITIAL_MEMORY_MAX)
+        .ceil()
+        .max(2.0);
     let most = most_ranks(case) as f64;
     let remedy = if needed.is_finite() && needed <= most {
         format!("run it on at least {needed:.0} ranks, or make")

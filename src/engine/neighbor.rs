@@ -27,6 +27,16 @@ use crate::physics::{ContactLaw, DrumWalls};
 /// volume than 27 cells of `reach` (about 58 % of it for `SPAN = 2`).
 pub const SPAN: usize = 2;
 
+/// Bytes the list's build keeps per local particle (owned or ghost) from one build to the
+/// next, besides the pairs: each particle's cell, the particles sorted by cell, the order of
+/// rank and each particle's place in it (4 words of 4 B), and the search's slots (position
+/// and half distance, place in the order of rank, flags). For `tumbler check`'s estimate.
+pub const SCRATCH_BYTES: usize = 4 * 4 + 4 * 8 + 4 + 1;
+
+/// Bytes per cell of the grid during a build: each cell's start in the sorted particles, and
+/// the counting sort's copy of it. For `tumbler check`'s estimate.
+pub const CELL_BYTES: usize = 2 * 4;
+
 /// Candidates the neighbour search tests at once (a row of cells is a contiguous run of slots,
 /// tested a block at a time).
 const BLOCK: usize = 8;
@@ -52,6 +62,13 @@ fn close_block(slot_x: &[Vec<f64>; 4], b: usize, xi: [f64; 3], half_i: f64, skin
         close |= ((dx * dx + dy * dy + dz * dz < reach * reach) as u32) << l;
     }
     close
+}
+
+/// Make `v` hold `n` copies of `value`, its capacity grown to no more than `n`.
+fn refill<T: Copy>(v: &mut Vec<T>, n: usize, value: T) {
+    v.clear();
+    v.reserve_exact(n);
+    v.resize(n, value);
 }
 
 /// A particle's place in the canonical order: its order key, then its id.
@@ -304,7 +321,10 @@ impl NeighborList {
     fn build_any(&mut self, p: &Particles, grid: &Grid, skin: f64, law: &ContactLaw) {
         let n = p.len();
         let ncell = grid.n[0] * grid.n[1] * grid.n[2];
+        // The scratch is sized for this build (`reserve_exact`, not grown by doubling):
+        // `SCRATCH_BYTES` a particle, `CELL_BYTES` a cell.
         self.cell_of.clear();
+        self.cell_of.reserve_exact(n);
         self.cell_of.extend((0..n).map(|i| {
             let x = p.x[i];
             grid.index([
@@ -314,16 +334,14 @@ impl NeighborList {
             ]) as u32
         }));
         // Counting sort of particles by cell.
-        self.cell_start.clear();
-        self.cell_start.resize(ncell + 1, 0);
+        refill(&mut self.cell_start, ncell + 1, 0);
         for &c in &self.cell_of {
             self.cell_start[c as usize + 1] += 1;
         }
         for c in 0..ncell {
             self.cell_start[c + 1] += self.cell_start[c];
         }
-        self.cell_items.clear();
-        self.cell_items.resize(n, 0);
+        refill(&mut self.cell_items, n, 0);
         let mut fill = self.cell_start.clone();
         for (i, &c) in self.cell_of.iter().enumerate() {
             self.cell_items[fill[c as usize] as usize] = i as u32;
@@ -331,11 +349,11 @@ impl NeighborList {
         }
         // the order of rank, and each particle's place in it
         self.by_rank.clear();
+        self.by_rank.reserve_exact(n);
         self.by_rank.extend(0..n as u32);
         self.by_rank
             .sort_unstable_by_key(|&i| rank_of(p.key[i as usize], p.id[i as usize]));
-        self.ord.clear();
-        self.ord.resize(n, 0);
+        refill(&mut self.ord, n, 0);
         for (k, &i) in self.by_rank.iter().enumerate() {
             self.ord[i as usize] = k as u32;
         }
@@ -343,9 +361,12 @@ impl NeighborList {
         let half = |i: usize| 0.5 * law.cutoff(p.diameter[i], p.diameter[i]);
         for v in &mut self.slot_x {
             v.clear();
+            v.reserve_exact(n + BLOCK);
         }
         self.slot_ord.clear();
+        self.slot_ord.reserve_exact(n);
         self.slot_flags.clear();
+        self.slot_flags.reserve_exact(n);
         for &j in &self.cell_items {
             let j = j as usize;
             let x = p.x[j];
