@@ -433,22 +433,25 @@ fn a_step_count_that_does_not_fit_is_refused() {
     );
 }
 
+/// `initial_memory`'s refusal of `file` with `overrides` on `ranks` ranks, if any (the case
+/// itself accepted).
+fn memory_refusal(file: &str, overrides: &[&str], ranks: usize) -> Option<String> {
+    let text = std::fs::read_to_string(case_path(file)).unwrap();
+    let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let lc = tumbler::case::load_text(&text, &ov, file).unwrap();
+    tumbler::case::initial_memory(&lc.case, ranks)
+        .err()
+        .map(|e| e.to_string())
+}
+
 #[test]
 fn a_huge_initial_state_is_refused_before_it_is_built() {
     // 1.4e8 lattice sites: 104 GiB on one rank (report::memory_estimate, its pairs those of
     // the bed the lattice settles into, and the list build's cells), refused at once by
     // check and run on one rank, nothing allocated; the case itself is fine, for 8 ranks or
     // more
-    let on = |file: &str, overrides: &[&str], ranks: usize| -> Option<String> {
-        let text = std::fs::read_to_string(case_path(file)).unwrap();
-        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        let lc = tumbler::case::load_text(&text, &ov, file).unwrap();
-        tumbler::case::initial_memory(&lc.case, ranks)
-            .err()
-            .map(|e| e.to_string())
-    };
     let long = ["drum.length=1e7", "output.slice_width=100"];
-    let m = on("periodic.toml", &long, 1).expect("refused on 1 rank");
+    let m = memory_refusal("periodic.toml", &long, 1).expect("refused on 1 rank");
     expect(
         &m,
         &[
@@ -457,9 +460,9 @@ fn a_huge_initial_state_is_refused_before_it_is_built() {
             "run it on at least 8 ranks",
         ],
     );
-    assert!(on("periodic.toml", &long, 7).is_some());
-    assert_eq!(on("periodic.toml", &long, 8), None);
-    let m = on("sphere.toml", &["drum.diameter=3.0"], 1).expect("refused on 1 rank");
+    assert!(memory_refusal("periodic.toml", &long, 7).is_some());
+    assert_eq!(memory_refusal("periodic.toml", &long, 8), None);
+    let m = memory_refusal("sphere.toml", &["drum.diameter=3.0"], 1).expect("refused on 1 rank");
     expect(&m, &["init.fill: the initial state would hold", "GiB"]);
     // a state that no rank count can hold is refused with the case itself
     let m = with_on("rough.toml", &["drum.rough_wall.diameter=1e-7"]);
@@ -519,19 +522,15 @@ fn a_sparse_bed_in_a_wide_drum_is_refused_before_its_cells_are_made() {
         ],
     );
     // wide enough for one rank's cells only: more ranks are the remedy
-    let on_one = |overrides: &[&str]| {
-        let text = std::fs::read_to_string(case_path("periodic.toml")).unwrap();
-        let ov: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        let lc = tumbler::case::load_text(&text, &ov, "periodic.toml").unwrap();
-        tumbler::case::initial_memory(&lc.case, 1)
-            .err()
-            .map(|e| e.to_string())
-    };
-    let m = on_one(&[
-        "drum.diameter=1e4",
-        "init.density=1e-7",
-        "model.gravity=1e-5",
-    ])
+    let m = memory_refusal(
+        "periodic.toml",
+        &[
+            "drum.diameter=1e4",
+            "init.density=1e-7",
+            "model.gravity=1e-5",
+        ],
+        1,
+    )
     .expect("refused on 1 rank");
     expect(
         &m,
